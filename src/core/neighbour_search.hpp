@@ -1,0 +1,174 @@
+#pragma once
+// Cell-linked list neighbour search. Particles are bucketed into cells of size >= the search
+// radius by a stable counting sort; a particle's neighbours are found in the 3^D surrounding
+// cells. The neighbour list is CSR (offset, index), built by two gather loops (count, fill)
+// through the common launcher, so it runs wherever the other particle loops run.
+#include <algorithm>
+#include <stdexcept>
+#include <vector>
+
+#include "core/parallel.hpp"
+#include "core/types.hpp"
+
+namespace isph {
+
+template <int D>
+struct CellGrid {
+  Vec<D> origin;
+  Real cell_size = 1;
+  int dims[D];
+  Index cells = 0;
+
+  ISPH_HD int coord(const Vec<D>& x, int d) const {
+    int c = static_cast<int>(floor((x[d] - origin[d]) / cell_size));
+    return c < 0 ? 0 : (c >= dims[d] ? dims[d] - 1 : c);
+  }
+  ISPH_HD Index flat(const int* c) const {
+    Index k = c[D - 1];
+    for (int d = D - 2; d >= 0; --d) k = k * dims[d] + c[d];
+    return k;
+  }
+  ISPH_HD Index cell_of(const Vec<D>& x) const {
+    int c[D];
+    for (int d = 0; d < D; ++d) c[d] = coord(x, d);
+    return flat(c);
+  }
+};
+
+// A read-only view of a built cell list, usable inside functors.
+template <int D>
+struct CellListView {
+  CellGrid<D> grid;
+  const Index* cell_start;  // cells + 1 offsets into `sorted`
+  const Index* sorted;      // particle indices ordered by cell
+  const Vec<D>* x;
+  const int* group;         // optional: only pairs with equal group are neighbours
+  Real radius2;
+
+  // Calls f(j, r_ij) for every j != i with |r_ij| < radius, r_ij = x_i - x_j.
+  template <class F>
+  ISPH_HD void for_each_neighbour(Index i, F&& f) const {
+    const Vec<D> xi = x[i];
+    int lo[D], hi[D], c[D];
+    for (int d = 0; d < D; ++d) {
+      const int ci = grid.coord(xi, d);
+      lo[d] = ci > 0 ? ci - 1 : 0;
+      hi[d] = ci + 1 < grid.dims[d] ? ci + 1 : grid.dims[d] - 1;
+      c[d] = lo[d];
+    }
+    while (true) {
+      const Index cell = grid.flat(c);
+      for (Index k = cell_start[cell]; k < cell_start[cell + 1]; ++k) {
+        const Index j = sorted[k];
+        if (j == i || (group && group[j] != group[i])) continue;
+        const Vec<D> r = xi - x[j];
+        if (norm2(r) < radius2) f(j, r);
+      }
+      int d = 0;  // odometer over the 3^D block
+      while (d < D && ++c[d] > hi[d]) {
+        c[d] = lo[d];
+        ++d;
+      }
+      if (d == D) break;
+    }
+  }
+};
+
+template <int D>
+struct CountNeighbours {
+  CellListView<D> cells;
+  Index* count;
+  ISPH_HD void operator()(Index i) const {
+    Index n = 0;
+    cells.for_each_neighbour(i, [&](Index, const Vec<D>&) { ++n; });
+    count[i] = n;
+  }
+};
+
+template <int D>
+struct FillNeighbours {
+  CellListView<D> cells;
+  const Index* offset;
+  Index* index;
+  ISPH_HD void operator()(Index i) const {
+    Index k = offset[i];
+    cells.for_each_neighbour(i, [&](Index j, const Vec<D>&) { index[k++] = j; });
+  }
+};
+
+template <int D>
+class CellList {
+ public:
+  // Buckets x into cells of edge `radius` (at least) over the particles' bounding box.
+  void build(const std::vector<Vec<D>>& x, Real radius) {
+    if (!(radius > 0)) throw std::invalid_argument("CellList: search radius must be positive");
+    x_ = x.data();
+    radius_ = radius;
+    Vec<D> lo, hi;
+    for (int d = 0; d < D; ++d) {
+      lo[d] = x.empty() ? 0 : x[0][d];
+      hi[d] = lo[d];
+    }
+    for (const auto& p : x)
+      for (int d = 0; d < D; ++d) {
+        lo[d] = std::min(lo[d], p[d]);
+        hi[d] = std::max(hi[d], p[d]);
+      }
+    grid_.origin = lo;
+    grid_.cell_size = radius;
+    grid_.cells = 1;
+    for (int d = 0; d < D; ++d) {
+      grid_.dims[d] = std::max(1, static_cast<int>((hi[d] - lo[d]) / radius) + 1);
+      grid_.cells *= grid_.dims[d];
+    }
+    cell_start_.assign(static_cast<std::size_t>(grid_.cells) + 1, 0);
+    std::vector<Index> cell(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      cell[i] = grid_.cell_of(x[i]);
+      ++cell_start_[cell[i] + 1];
+    }
+    for (Index c = 0; c < grid_.cells; ++c) cell_start_[c + 1] += cell_start_[c];
+    sorted_.resize(x.size());
+    std::vector<Index> fill(cell_start_.begin(), cell_start_.end() - 1);
+    for (std::size_t i = 0; i < x.size(); ++i) sorted_[fill[cell[i]]++] = static_cast<Index>(i);
+  }
+
+  // Particle indices ordered by cell (stable): the permutation that sorts particles by cell.
+  const std::vector<Index>& order() const { return sorted_; }
+
+  CellListView<D> view(const int* group = nullptr) const {
+    return {grid_, cell_start_.data(), sorted_.data(), x_, group, radius_ * radius_};
+  }
+
+ private:
+  CellGrid<D> grid_;
+  std::vector<Index> cell_start_;
+  std::vector<Index> sorted_;
+  const Vec<D>* x_ = nullptr;
+  Real radius_ = 0;
+};
+
+// CSR neighbour list: the neighbours of i are index[offset[i] .. offset[i+1]).
+struct NeighbourList {
+  std::vector<Index> offset;
+  std::vector<Index> index;
+  Index pairs() const { return static_cast<Index>(index.size()); }
+};
+
+// Builds the CSR list of all pairs closer than `radius` (and in the same group, if given).
+template <int D>
+NeighbourList build_neighbour_list(const std::vector<Vec<D>>& x, Real radius, const int* group = nullptr) {
+  CellList<D> cells;
+  cells.build(x, radius);
+  const Index n = static_cast<Index>(x.size());
+  NeighbourList list;
+  list.offset.assign(static_cast<std::size_t>(n) + 1, 0);
+  const Exec host{};
+  parallel_for(host, n, CountNeighbours<D>{cells.view(group), list.offset.data() + 1});
+  for (Index i = 0; i < n; ++i) list.offset[i + 1] += list.offset[i];
+  list.index.resize(static_cast<std::size_t>(list.offset[n]));
+  parallel_for(host, n, FillNeighbours<D>{cells.view(group), list.offset.data(), list.index.data()});
+  return list;
+}
+
+}  // namespace isph

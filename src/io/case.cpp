@@ -1,0 +1,43 @@
+#include "io/case.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace isph {
+
+namespace {
+
+// Points exactly on a face (lattice points computed as origin + (i + 1/2) dx) carry round-off
+// relative to the coordinates' magnitude, so faces are widened by this fraction of that magnitude.
+constexpr double kRelativeTolerance = 1e-12;
+
+bool box_contains(const Shape& s, const std::array<double, 3>& p, int dimension) {
+  for (int k = 0; k < dimension; ++k) {
+    const double tol = kRelativeTolerance * std::max(std::abs(s.min[k]), std::abs(s.max[k]));
+    if (p[k] < s.min[k] - tol || p[k] > s.max[k] + tol) return false;
+  }
+  return true;
+}
+
+bool ball_contains(const Shape& s, const std::array<double, 3>& p, int dimension) {
+  double scale = s.radius;
+  double distance2 = 0.0;
+  for (int k = 0; k < dimension; ++k) {
+    scale = std::max(scale, std::abs(s.center[k]));
+    distance2 += (p[k] - s.center[k]) * (p[k] - s.center[k]);
+  }
+  const double reach = s.radius + kRelativeTolerance * scale;
+  return distance2 <= reach * reach;
+}
+
+}  // namespace
+
+// Only the first `dimension` components count. Other types ("point" regions of point loads)
+// contain nothing.
+bool Shape::contains(const std::array<double, 3>& p, int dimension) const {
+  if (type == "rectangle" || type == "box") return box_contains(*this, p, dimension);
+  if (type == "circle" || type == "sphere") return ball_contains(*this, p, dimension);
+  return false;
+}
+
+}  // namespace isph

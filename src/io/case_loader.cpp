@@ -1,0 +1,772 @@
+#include "io/case_loader.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <toml.hpp>
+#include <utility>
+
+namespace isph {
+
+namespace {
+
+using Vec3 = std::array<double, 3>;
+using Choices = std::vector<std::string>;
+
+enum class Need { optional, required };
+
+// ---------------------------------------------------------------------------------------------
+// Text helpers
+// ---------------------------------------------------------------------------------------------
+
+std::string join(const std::vector<std::string>& parts, const std::string& separator) {
+  std::string text;
+  for (std::size_t i = 0; i < parts.size(); ++i) text += (i ? separator : "") + parts[i];
+  return text;
+}
+
+// The shortest text that reads back as the same double.
+std::string show(double x) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x);
+  return std::string(buffer, result.ptr);
+}
+
+// A TOML basic string.
+std::string quote(const std::string& s) {
+  std::string text = "\"";
+  for (const char ch : s) {
+    const auto code = static_cast<unsigned char>(ch);
+    if (ch == '"' || ch == '\\') {
+      text += '\\';
+      text += ch;
+    } else if (code < 0x20 || code == 0x7f) {
+      char escape[8];
+      std::snprintf(escape, sizeof escape, "\\u%04x", code);
+      text += escape;
+    } else {
+      text += ch;
+    }
+  }
+  return text + "\"";
+}
+
+std::string trim(const std::string& s) {
+  const auto first = s.find_first_not_of(" \t");
+  if (first == std::string::npos) return "";
+  return s.substr(first, s.find_last_not_of(" \t") - first + 1);
+}
+
+std::vector<std::string> split(const std::string& s, char separator) {
+  std::vector<std::string> parts;
+  std::istringstream in(s);
+  for (std::string part; std::getline(in, part, separator);) parts.push_back(part);
+  if (!s.empty() && s.back() == separator) parts.emplace_back();
+  return parts;
+}
+
+std::string index_path(const std::string& path, std::size_t index) {
+  return path + "[" + std::to_string(index) + "]";
+}
+
+std::string one_of(const Choices& allowed) {
+  std::vector<std::string> quoted;
+  for (const auto& choice : allowed) quoted.push_back(quote(choice));
+  return "must be one of " + join(quoted, ", ");
+}
+
+std::string describe(const toml::value& v) {
+  switch (v.type()) {
+    case toml::value_t::boolean: return "a boolean";
+    case toml::value_t::integer: return "an integer";
+    case toml::value_t::floating: return "a float";
+    case toml::value_t::string: return "a string";
+    case toml::value_t::array: return "an array";
+    case toml::value_t::table: return "a table";
+    case toml::value_t::empty: return "nothing";
+    default: return "a date or time";
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading: every problem is recorded in the Context, and reading goes on.
+// ---------------------------------------------------------------------------------------------
+
+struct Context {
+  explicit Context(std::string file_name) : file(std::move(file_name)) {}
+
+  std::string file;
+  int dimension = 2;  // read first; vectors have this many components
+  std::vector<std::string> problems;
+
+  void problem(const std::string& key, const std::string& reason) {
+    problems.push_back(file + ": " + key + ": " + reason);
+  }
+};
+
+class Table;
+
+bool convert(const toml::value& v, const std::string& path, Context& ctx, bool& out);
+bool convert(const toml::value& v, const std::string& path, Context& ctx, std::int64_t& out);
+bool convert(const toml::value& v, const std::string& path, Context& ctx, double& out);
+bool convert(const toml::value& v, const std::string& path, Context& ctx, std::string& out);
+bool convert(const toml::value& v, const std::string& path, Context& ctx, Vec3& out);
+template <class T>
+bool convert(const toml::value& v, const std::string& path, Context& ctx, std::vector<T>& out);
+template <class T>
+  requires requires(Table& t, T& spec) { read_fields(t, spec); }
+bool convert(const toml::value& v, const std::string& path, Context& ctx, T& out);
+
+// One TOML table being read. Keys are taken by name; when the reader goes away, every key that
+// nobody asked for is reported as unknown.
+class Table {
+ public:
+  Table(const toml::table& table, std::string path, Context& ctx)
+      : table_(table), path_(std::move(path)), ctx_(ctx) {}
+  Table(const Table&) = delete;
+  Table& operator=(const Table&) = delete;
+  ~Table() { report_unknown(); }
+
+  Context& ctx() { return ctx_; }
+  bool has(const std::string& key) const { return table_.count(key) != 0; }
+  std::string path(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+  void problem(const std::string& key, const std::string& reason) { ctx_.problem(path(key), reason); }
+  void ignore(const std::string& key) { used_.insert(key); }
+  // After an invalid `type` the other keys cannot be judged; they are not reported.
+  void ignore_rest() {
+    for (const auto& entry : table_) used_.insert(entry.first);
+  }
+
+  // Converts `key` into `out` if present (`out` keeps its default otherwise); returns whether
+  // `out` was set from the file.
+  template <class T>
+  bool read(const std::string& key, T& out, Need need = Need::optional) {
+    used_.insert(key);
+    const auto it = table_.find(key);
+    if (it == table_.end()) {
+      if (need == Need::required) problem(key, "missing required key");
+      return false;
+    }
+    return convert(it->second, path(key), ctx_, out);
+  }
+
+ private:
+  void report_unknown() {
+    std::set<std::string> unknown;  // sorted, so that reports are reproducible
+    for (const auto& entry : table_)
+      if (!used_.count(entry.first)) unknown.insert(entry.first);
+    for (const auto& key : unknown) problem(key, "unknown key");
+  }
+
+  const toml::table& table_;
+  std::string path_;
+  Context& ctx_;
+  std::set<std::string> used_;
+};
+
+bool mismatch(const toml::value& v, const std::string& expected, const std::string& path, Context& ctx) {
+  ctx.problem(path, "expected " + expected + ", got " + describe(v));
+  return false;
+}
+
+bool convert(const toml::value& v, const std::string& path, Context& ctx, bool& out) {
+  if (!v.is_boolean()) return mismatch(v, "a boolean", path, ctx);
+  out = v.as_boolean();
+  return true;
+}
+
+bool convert(const toml::value& v, const std::string& path, Context& ctx, std::int64_t& out) {
+  if (!v.is_integer()) return mismatch(v, "an integer", path, ctx);
+  out = v.as_integer();
+  return true;
+}
+
+// Integers are accepted where floats are expected (dx = 1 means 1.0).
+bool convert(const toml::value& v, const std::string& path, Context& ctx, double& out) {
+  if (!v.is_floating() && !v.is_integer()) return mismatch(v, "a number", path, ctx);
+  const double x = v.is_integer() ? static_cast<double>(v.as_integer()) : v.as_floating();
+  if (!std::isfinite(x)) {
+    ctx.problem(path, "must be finite (got " + show(x) + ")");
+    return false;
+  }
+  out = x;
+  return true;
+}
+
+bool convert(const toml::value& v, const std::string& path, Context& ctx, std::string& out) {
+  if (!v.is_string()) return mismatch(v, "a string", path, ctx);
+  out = v.as_string().str;
+  return true;
+}
+
+// A point or vector: exactly `dimension` numbers; the unused components stay zero.
+bool convert(const toml::value& v, const std::string& path, Context& ctx, Vec3& out) {
+  const std::string expected = std::to_string(ctx.dimension) + " numbers";
+  if (!v.is_array()) return mismatch(v, "an array of " + expected, path, ctx);
+  const auto& items = v.as_array();
+  if (items.size() != static_cast<std::size_t>(ctx.dimension)) {
+    ctx.problem(path, "expected " + expected + " (dimension = " + std::to_string(ctx.dimension) + "), got " +
+                          std::to_string(items.size()));
+    return false;
+  }
+  Vec3 result{};
+  bool ok = true;
+  for (std::size_t i = 0; i < items.size(); ++i)
+    ok = convert(items[i], index_path(path, i), ctx, result[i]) && ok;
+  if (ok) out = result;
+  return ok;
+}
+
+// An array (of tables, usually). Every element is kept, valid or not, so that the indices used by
+// the checks across lists match the file.
+template <class T>
+bool convert(const toml::value& v, const std::string& path, Context& ctx, std::vector<T>& out) {
+  if (!v.is_array()) return mismatch(v, "an array", path, ctx);
+  const auto& items = v.as_array();
+  std::vector<T> result(items.size());
+  bool ok = true;
+  for (std::size_t i = 0; i < items.size(); ++i)
+    ok = convert(items[i], index_path(path, i), ctx, result[i]) && ok;
+  out = std::move(result);
+  return ok;
+}
+
+// Every spec with a read_fields overload is read from a TOML table (or inline table).
+template <class T>
+  requires requires(Table& t, T& spec) { read_fields(t, spec); }
+bool convert(const toml::value& v, const std::string& path, Context& ctx, T& out) {
+  if (!v.is_table()) return mismatch(v, "a table", path, ctx);
+  Table table(v.as_table(), path, ctx);
+  read_fields(table, out);
+  return true;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Checked reads
+// ---------------------------------------------------------------------------------------------
+
+bool read_positive(Table& t, const std::string& key, double& out, Need need = Need::optional) {
+  if (!t.read(key, out, need)) return false;
+  if (out > 0.0) return true;
+  t.problem(key, "must be > 0 (got " + show(out) + ")");
+  return false;
+}
+
+void read_non_negative(Table& t, const std::string& key, double& out) {
+  if (t.read(key, out) && out < 0.0) t.problem(key, "must be >= 0 (got " + show(out) + ")");
+}
+
+// Returns whether `out` holds a valid choice: the one read, or the default when the key is optional
+// and absent.
+bool read_choice(Table& t, const std::string& key, std::string& out, const Choices& allowed,
+                 Need need = Need::optional) {
+  std::string value;
+  if (!t.read(key, value, need)) return need == Need::optional && !t.has(key);
+  if (std::find(allowed.begin(), allowed.end(), value) == allowed.end()) {
+    t.problem(key, one_of(allowed) + " (got " + quote(value) + ")");
+    return false;
+  }
+  out = value;
+  return true;
+}
+
+// A direction: any non-zero vector, stored normalized.
+void read_direction(Table& t, const std::string& key, Vec3& out) {
+  Vec3 d{};
+  if (!t.read(key, d)) return;
+  const double norm = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  if (norm == 0.0) {
+    t.problem(key, "must not be the zero vector");
+    return;
+  }
+  for (auto& c : d) c /= norm;
+  out = d;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The schema (see case.hpp and docs/CASES.md)
+// ---------------------------------------------------------------------------------------------
+
+bool is_ball(const std::string& type) { return type == "circle" || type == "sphere"; }
+
+// Each dimension has its own pair of shape types; one of the other dimension gets a pointed message.
+bool check_shape_type(Table& t, const std::string& type) {
+  const bool planar = t.ctx().dimension == 2;
+  const Choices mine = planar ? Choices{"rectangle", "circle"} : Choices{"box", "sphere"};
+  const Choices theirs = planar ? Choices{"box", "sphere"} : Choices{"rectangle", "circle"};
+  const auto in = [&type](const Choices& choices) {
+    return std::find(choices.begin(), choices.end(), type) != choices.end();
+  };
+  if (in(mine)) return true;
+  if (in(theirs))
+    t.problem("type", quote(type) + " is a " + (planar ? "3D" : "2D") + " shape, but dimension = " +
+                          std::to_string(t.ctx().dimension) + "; " + one_of(mine));
+  else
+    t.problem("type", one_of(mine) + " (got " + quote(type) + ")");
+  return false;
+}
+
+void read_fields(Table& t, Shape& s) {
+  if (!t.read("type", s.type, Need::required) || !check_shape_type(t, s.type)) {
+    t.ignore_rest();
+    return;
+  }
+  if (is_ball(s.type)) {
+    t.read("center", s.center, Need::required);
+    read_positive(t, "radius", s.radius, Need::required);
+    return;
+  }
+  const bool have_min = t.read("min", s.min, Need::required);
+  if (!t.read("max", s.max, Need::required) || !have_min) return;
+  for (int k = 0; k < t.ctx().dimension; ++k) {
+    if (s.min[k] < s.max[k]) continue;
+    t.problem("max", "must be > min in every component (component " + std::to_string(k) + ": min " +
+                         show(s.min[k]) + ", max " + show(s.max[k]) + ")");
+    return;
+  }
+}
+
+void read_fields(Table& t, KernelSpec& k) {
+  read_choice(t, "type", k.type, {"cubic_spline", "wendland_c2"});
+  read_positive(t, "h_factor", k.h_factor);
+  t.read("correction", k.correction);
+}
+
+void read_fields(Table& t, StructureSpec& s) {
+  read_choice(t, "integrator", s.integrator, {"rk4", "verlet"});
+  read_positive(t, "courant", s.courant);
+  read_non_negative(t, "damping", s.damping);
+  read_non_negative(t, "hourglass", s.hourglass);
+}
+
+void read_fields(Table& t, OutputSpec& o) {
+  read_non_negative(t, "interval", o.interval);
+  read_non_negative(t, "snapshot_interval", o.snapshot_interval);
+  t.read("snapshots", o.snapshots);
+}
+
+void read_fields(Table& t, StagesSpec& s) {
+  t.read("structure", s.structure);
+  if (t.read("fluid", s.fluid) && s.fluid) t.problem("fluid", "the fluid stage is not available yet");
+}
+
+// Poisson's ratio of a stable isotropic solid lies in (-1, 0.5); at 0.5 (incompressible) the bulk
+// modulus and the P-wave speed are infinite.
+void read_poisson_ratio(Table& t, double& nu) {
+  if (!t.read("poisson_ratio", nu, Need::required)) return;
+  if (!(nu > -1.0)) t.problem("poisson_ratio", "must be > -1 (got " + show(nu) + ")");
+  if (!(nu < 0.5)) t.problem("poisson_ratio", "must be < 0.5 (got " + show(nu) + ")");
+}
+
+// Exactly one of youngs_modulus and bulk_modulus K; from K, E = 3K(1 - 2 nu).
+void read_stiffness(Table& t, MaterialSpec& m) {
+  const bool has_e = t.has("youngs_modulus");
+  const bool has_k = t.has("bulk_modulus");
+  if (has_e == has_k) {
+    t.ignore("youngs_modulus");
+    t.ignore("bulk_modulus");
+    t.problem("youngs_modulus", has_e ? "give youngs_modulus or bulk_modulus, not both"
+                                      : "missing required key (or give bulk_modulus)");
+    return;
+  }
+  if (has_e) {
+    read_positive(t, "youngs_modulus", m.youngs_modulus);
+    return;
+  }
+  double bulk_modulus = 0.0;
+  if (read_positive(t, "bulk_modulus", bulk_modulus))
+    m.youngs_modulus = 3.0 * bulk_modulus * (1.0 - 2.0 * m.poisson_ratio);
+}
+
+void read_fields(Table& t, MaterialSpec& m) {
+  t.read("name", m.name, Need::required);
+  read_choice(t, "model", m.model, {"saint_venant_kirchhoff"});
+  read_positive(t, "density", m.density, Need::required);
+  read_poisson_ratio(t, m.poisson_ratio);
+  read_stiffness(t, m);
+  if (t.ctx().dimension == 2) {
+    read_choice(t, "plane", m.plane, {"strain", "stress"});
+  } else if (t.has("plane")) {
+    t.ignore("plane");
+    t.problem("plane", "only used in 2D (dimension = 3)");
+  }
+}
+
+void read_fields(Table& t, InitialVelocitySpec& v) {
+  if (!read_choice(t, "type", v.type, {"none", "uniform", "cantilever_mode"})) {
+    t.ignore_rest();
+    return;
+  }
+  if (v.type == "uniform") {
+    t.read("value", v.value, Need::required);
+  } else if (v.type == "cantilever_mode") {
+    read_positive(t, "kL", v.kL);
+    t.read("tip_velocity", v.tip_velocity, Need::required);
+    read_positive(t, "length", v.length, Need::required);
+    t.read("root", v.root);
+    read_direction(t, "axis", v.axis);
+    read_direction(t, "direction", v.direction);
+  }
+}
+
+constexpr std::pair<const char*, ParticleKind> kKinds[] = {
+    {"fluid", ParticleKind::fluid}, {"wall", ParticleKind::wall}, {"structure", ParticleKind::structure}};
+
+std::string kind_name(ParticleKind kind) {
+  for (const auto& [name, k] : kKinds)
+    if (k == kind) return name;
+  return "";
+}
+
+ParticleKind kind_from_name(const std::string& name) {
+  for (const auto& [n, kind] : kKinds)
+    if (name == n) return kind;
+  return ParticleKind::structure;
+}
+
+// The lattice is anchored at the lower corner of the shape's bounding box.
+Vec3 default_lattice_origin(const Shape& s, int dimension) {
+  if (!is_ball(s.type)) return s.min;
+  Vec3 origin{};
+  for (int k = 0; k < dimension; ++k) origin[k] = s.center[k] - s.radius;
+  return origin;
+}
+
+void read_fields(Table& t, BodySpec& b) {
+  t.read("name", b.name, Need::required);
+  std::string kind = kind_name(b.kind);
+  if (read_choice(t, "kind", kind, {"fluid", "wall", "structure"})) b.kind = kind_from_name(kind);
+  // Only structures need an elastic material; walls and fluids may name one.
+  t.read("material", b.material, b.kind == ParticleKind::structure ? Need::required : Need::optional);
+  t.read("shape", b.shape, Need::required);
+  t.read("clamps", b.clamps);
+  b.lattice_origin = default_lattice_origin(b.shape, t.ctx().dimension);
+  t.read("lattice_origin", b.lattice_origin);
+  t.read("initial_velocity", b.initial_velocity);
+}
+
+void read_fields(Table& t, LoadSpec& l) {
+  if (!read_choice(t, "type", l.type, {"edge", "point", "body"}, Need::required)) {
+    t.ignore_rest();
+    return;
+  }
+  t.read("body", l.body, Need::required);
+  if (l.type == "edge") {
+    t.read("region", l.region, Need::required);
+    t.read("force", l.force, Need::required);
+  } else if (l.type == "point") {
+    // A point load is given by `point`; it is kept as the centre of a "point" region.
+    l.region.type = "point";
+    t.read("point", l.region.center, Need::required);
+    t.read("force", l.force, Need::required);
+  } else {
+    t.read("acceleration", l.acceleration, Need::required);
+  }
+  read_non_negative(t, "ramp_time", l.ramp_time);
+}
+
+// Probe names become column names and file names.
+bool is_identifier(const std::string& s) {
+  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+  });
+}
+
+void read_fields(Table& t, ProbeSpec& p) {
+  if (t.read("name", p.name, Need::required) && !is_identifier(p.name))
+    t.problem("name", "must match [A-Za-z0-9_]+ (got " + quote(p.name) + ")");
+  read_choice(t, "type", p.type, {"displacement"});
+  t.read("point", p.point, Need::required);
+}
+
+void read_dimension(Table& t, CaseSpec& c) {
+  std::int64_t dimension = c.dimension;
+  if (!t.read("dimension", dimension)) return;
+  if (dimension != 2 && dimension != 3) {
+    t.problem("dimension", "must be 2 or 3 (got " + std::to_string(dimension) + ")");
+    return;
+  }
+  c.dimension = t.ctx().dimension = static_cast<int>(dimension);
+}
+
+void read_fields(Table& t, CaseSpec& c) {
+  if (t.read("name", c.name) && c.name.empty()) t.problem("name", "must not be empty");
+  read_dimension(t, c);  // first: the shapes and vectors below depend on it
+  read_positive(t, "dx", c.dx, Need::required);
+  read_positive(t, "end_time", c.end_time, Need::required);
+  t.read("gravity", c.gravity);
+  t.read("kernel", c.kernel);
+  t.read("structure", c.structure);
+  t.read("output", c.output);
+  t.read("stages", c.stages);
+  t.read("materials", c.materials);
+  t.read("bodies", c.bodies);
+  t.read("loads", c.loads);
+  t.read("probes", c.probes);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Checks across lists
+// ---------------------------------------------------------------------------------------------
+
+template <class Spec>
+void check_unique_names(const std::vector<Spec>& items, const std::string& list, Context& ctx) {
+  std::map<std::string, std::size_t> first;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (items[i].name.empty()) continue;  // missing: reported already
+    const auto [it, inserted] = first.emplace(items[i].name, i);
+    if (!inserted)
+      ctx.problem(index_path(list, i) + ".name",
+                  "duplicate name " + quote(items[i].name) + " (also " + index_path(list, it->second) + ")");
+  }
+}
+
+// `name` must be the name of one of `items`.
+template <class Spec>
+void check_reference(const std::string& name, const std::vector<Spec>& items, const std::string& what,
+                     const std::string& path, Context& ctx) {
+  if (name.empty()) return;  // missing: reported already
+  std::vector<std::string> known;
+  for (const auto& item : items) {
+    if (item.name == name) return;
+    if (!item.name.empty()) known.push_back(quote(item.name));
+  }
+  ctx.problem(path, "no " + what + " named " + quote(name) +
+                        (known.empty() ? " (none defined)" : " (known: " + join(known, ", ") + ")"));
+}
+
+void check_lists(const CaseSpec& c, Context& ctx) {
+  check_unique_names(c.materials, "materials", ctx);
+  check_unique_names(c.bodies, "bodies", ctx);
+  check_unique_names(c.probes, "probes", ctx);
+  for (std::size_t i = 0; i < c.bodies.size(); ++i)
+    check_reference(c.bodies[i].material, c.materials, "material", index_path("bodies", i) + ".material",
+                    ctx);
+  for (std::size_t i = 0; i < c.loads.size(); ++i)
+    check_reference(c.loads[i].body, c.bodies, "body", index_path("loads", i) + ".body", ctx);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Overrides
+// ---------------------------------------------------------------------------------------------
+
+// The value of an override: a TOML value if the text is one, else the text itself as a string (so
+// that `structure.integrator=verlet` works unquoted).
+toml::value override_value(const std::string& text) {
+  std::istringstream in("v = " + text);
+  try {
+    const toml::value doc = toml::parse(in, "--set");
+    if (doc.as_table().size() == 1) return doc.at("v");
+  } catch (const std::exception&) {
+    // not a TOML value: taken as a string below
+  }
+  return toml::value(text);
+}
+
+// The element of an array named by `segment`: a numeric index, or else the table whose `name` is
+// `segment`. Null if there is none.
+toml::value* array_element(toml::array& items, const std::string& segment) {
+  std::size_t index = 0;
+  const char* end = segment.data() + segment.size();
+  const auto [ptr, error] = std::from_chars(segment.data(), end, index);
+  if (error == std::errc() && ptr == end) return index < items.size() ? &items[index] : nullptr;
+  for (auto& item : items)
+    if (item.is_table() && item.contains("name") && item.at("name").is_string() &&
+        item.at("name").as_string().str == segment)
+      return &item;
+  return nullptr;
+}
+
+// Sets "dotted.key=value" in `doc`. Missing table keys are created, so that a key outside the
+// schema is reported as unknown by the reading that follows. Returns the problem, if any.
+std::optional<std::string> apply_override(toml::value& doc, const std::string& text) {
+  const auto equals = text.find('=');
+  if (equals == std::string::npos) return "expected key=value";
+  const auto segments = split(trim(text.substr(0, equals)), '.');
+  if (segments.empty() || std::find(segments.begin(), segments.end(), "") != segments.end())
+    return "expected key=value (with a key like kernel.h_factor)";
+  toml::value* node = &doc;
+  std::string walked;
+  for (const auto& segment : segments) {
+    if (node->is_table()) {
+      node = &node->as_table().try_emplace(segment, toml::table{}).first->second;
+    } else if (node->is_array()) {
+      node = array_element(node->as_array(), segment);
+      if (!node) return walked + ": no element with index or name " + quote(segment);
+    } else {
+      return walked + ": is " + describe(*node) + ", not a table or an array";
+    }
+    walked += (walked.empty() ? "" : ".") + segment;
+  }
+  *node = override_value(trim(text.substr(equals + 1)));
+  return std::nullopt;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The resolved configuration, as TOML
+// ---------------------------------------------------------------------------------------------
+
+// A TOML float: the shortest round-trip text, with ".0" where it would read as an integer.
+std::string toml_float(double x) {
+  std::string text = show(x);
+  if (text.find_first_of(".e") == std::string::npos) text += ".0";
+  return text;
+}
+
+std::string toml_bool(bool b) { return b ? "true" : "false"; }
+
+std::string toml_vector(const Vec3& v, int dimension) {
+  std::vector<std::string> items;
+  for (int k = 0; k < dimension; ++k) items.push_back(toml_float(v[k]));
+  return "[" + join(items, ", ") + "]";
+}
+
+std::string inline_table(const std::vector<std::pair<std::string, std::string>>& entries) {
+  std::vector<std::string> items;
+  for (const auto& [key, value] : entries) items.push_back(key + " = " + value);
+  return "{ " + join(items, ", ") + " }";
+}
+
+std::string toml_shape(const Shape& s, int dimension) {
+  if (is_ball(s.type))
+    return inline_table({{"type", quote(s.type)},
+                         {"center", toml_vector(s.center, dimension)},
+                         {"radius", toml_float(s.radius)}});
+  return inline_table({{"type", quote(s.type)},
+                       {"min", toml_vector(s.min, dimension)},
+                       {"max", toml_vector(s.max, dimension)}});
+}
+
+std::string toml_velocity(const InitialVelocitySpec& v, int dimension) {
+  if (v.type == "uniform")
+    return inline_table({{"type", quote(v.type)}, {"value", toml_vector(v.value, dimension)}});
+  if (v.type == "cantilever_mode")
+    return inline_table({{"type", quote(v.type)},
+                         {"kL", toml_float(v.kL)},
+                         {"tip_velocity", toml_float(v.tip_velocity)},
+                         {"length", toml_float(v.length)},
+                         {"root", toml_vector(v.root, dimension)},
+                         {"axis", toml_vector(v.axis, dimension)},
+                         {"direction", toml_vector(v.direction, dimension)}});
+  return inline_table({{"type", quote(v.type)}});
+}
+
+void write_material(std::ostream& out, const MaterialSpec& m, int dimension) {
+  out << "\n[[materials]]\n"
+      << "name = " << quote(m.name) << "\n"
+      << "model = " << quote(m.model) << "\n"
+      << "density = " << toml_float(m.density) << "\n"
+      << "youngs_modulus = " << toml_float(m.youngs_modulus) << "\n"
+      << "poisson_ratio = " << toml_float(m.poisson_ratio) << "\n";
+  if (dimension == 2) out << "plane = " << quote(m.plane) << "\n";
+}
+
+void write_body(std::ostream& out, const BodySpec& b, int dimension) {
+  std::vector<std::string> clamps;
+  for (const auto& clamp : b.clamps) clamps.push_back(toml_shape(clamp, dimension));
+  out << "\n[[bodies]]\n"
+      << "name = " << quote(b.name) << "\n"
+      << "kind = " << quote(kind_name(b.kind)) << "\n";
+  if (!b.material.empty()) out << "material = " << quote(b.material) << "\n";
+  out << "shape = " << toml_shape(b.shape, dimension) << "\n"
+      << "clamps = [" << join(clamps, ", ") << "]\n"
+      << "lattice_origin = " << toml_vector(b.lattice_origin, dimension) << "\n"
+      << "initial_velocity = " << toml_velocity(b.initial_velocity, dimension) << "\n";
+}
+
+void write_load(std::ostream& out, const LoadSpec& l, int dimension) {
+  out << "\n[[loads]]\n"
+      << "type = " << quote(l.type) << "\n"
+      << "body = " << quote(l.body) << "\n";
+  if (l.type == "edge") out << "region = " << toml_shape(l.region, dimension) << "\n";
+  if (l.type == "point") out << "point = " << toml_vector(l.region.center, dimension) << "\n";
+  if (l.type == "body")
+    out << "acceleration = " << toml_vector(l.acceleration, dimension) << "\n";
+  else
+    out << "force = " << toml_vector(l.force, dimension) << "\n";
+  out << "ramp_time = " << toml_float(l.ramp_time) << "\n";
+}
+
+void write_probe(std::ostream& out, const ProbeSpec& p, int dimension) {
+  out << "\n[[probes]]\n"
+      << "name = " << quote(p.name) << "\n"
+      << "type = " << quote(p.type) << "\n"
+      << "point = " << toml_vector(p.point, dimension) << "\n";
+}
+
+std::string resolved_toml(const CaseSpec& c) {
+  const int d = c.dimension;
+  std::ostringstream out;
+  out << "# The case as run: overrides applied, every default written out.\n"
+      << "name = " << quote(c.name) << "\n"
+      << "dimension = " << d << "\n"
+      << "dx = " << toml_float(c.dx) << "\n"
+      << "end_time = " << toml_float(c.end_time) << "\n"
+      << "gravity = " << toml_vector(c.gravity, d) << "\n"
+      << "\n[kernel]\n"
+      << "type = " << quote(c.kernel.type) << "\n"
+      << "h_factor = " << toml_float(c.kernel.h_factor) << "\n"
+      << "correction = " << toml_bool(c.kernel.correction) << "\n"
+      << "\n[structure]\n"
+      << "integrator = " << quote(c.structure.integrator) << "\n"
+      << "courant = " << toml_float(c.structure.courant) << "\n"
+      << "damping = " << toml_float(c.structure.damping) << "\n"
+      << "hourglass = " << toml_float(c.structure.hourglass) << "\n"
+      << "\n[output]\n"
+      << "interval = " << toml_float(c.output.interval) << "\n"
+      << "snapshot_interval = " << toml_float(c.output.snapshot_interval) << "\n"
+      << "snapshots = " << toml_bool(c.output.snapshots) << "\n"
+      << "\n[stages]\n"
+      << "structure = " << toml_bool(c.stages.structure) << "\n"
+      << "fluid = " << toml_bool(c.stages.fluid) << "\n";
+  for (const auto& m : c.materials) write_material(out, m, d);
+  for (const auto& b : c.bodies) write_body(out, b, d);
+  for (const auto& l : c.loads) write_load(out, l, d);
+  for (const auto& p : c.probes) write_probe(out, p, d);
+  return out.str();
+}
+
+// ---------------------------------------------------------------------------------------------
+
+toml::value parse_file(const std::string& path) {
+  std::error_code error;
+  std::ifstream in(path, std::ios::binary);
+  if (!in || std::filesystem::is_directory(path, error)) throw CaseError({path + ": cannot open file"});
+  try {
+    return toml::parse(in, path);
+  } catch (const toml::exception& e) {
+    throw CaseError({path + ": parse error: " + e.what()});
+  }
+}
+
+}  // namespace
+
+CaseError::CaseError(std::vector<std::string> problems)
+    : std::runtime_error(join(problems, "\n")), problems_(std::move(problems)) {}
+
+CaseSpec load_case(const std::string& path, const std::vector<std::string>& overrides) {
+  toml::value doc = parse_file(path);
+  Context ctx(path);
+  for (const auto& text : overrides)
+    if (const auto problem = apply_override(doc, text))
+      ctx.problems.push_back("--set " + text + ": " + *problem);
+
+  CaseSpec c;
+  c.source_path = path;
+  c.name = std::filesystem::path(path).stem().string();
+  convert(doc, "", ctx, c);
+  check_lists(c, ctx);
+  if (!ctx.problems.empty()) throw CaseError(std::move(ctx.problems));
+  c.resolved_toml = resolved_toml(c);
+  return c;
+}
+
+}  // namespace isph

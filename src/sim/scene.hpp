@@ -1,0 +1,38 @@
+#pragma once
+// Scene: the particles, materials, loads and probes a case describes, ready for the solvers.
+#include <string>
+#include <vector>
+
+#include "io/case.hpp"
+#include "structure/tlsph.hpp"
+
+namespace isph {
+
+template <int D>
+struct DisplacementProbe {
+  std::string name;
+  Index particle;  // nearest structure particle in the reference configuration
+  Vec<D> point;    // where u is reported: u_a + (F_a - I)(point - X_a)
+};
+
+template <int D>
+struct Scene {
+  TlsphSetup<D> structure;           // structure particles, sorted by cell
+  std::vector<Index> structure_id;   // stable ids (output order)
+  std::vector<int> structure_body;   // body index per structure particle
+  Index fluid_particles = 0;
+  Index wall_particles = 0;
+  std::vector<DisplacementProbe<D>> probes;
+  Real body_extent = 0;              // largest body size, for the divergence test
+};
+
+// Fills every body on its lattice, applies clamps, initial velocities and loads, and places the
+// probes. Throws CaseError listing every problem (an empty body or clamp, a probe outside every
+// structure, a stage the case needs but does not enable, ...).
+template <int D>
+Scene<D> build_scene(const CaseSpec& spec);
+
+// Lamé constants of a material; in 2D plane stress, lambda is the plane-stress value.
+ElasticMaterial elastic_material(const MaterialSpec& m, int dimension);
+
+}  // namespace isph

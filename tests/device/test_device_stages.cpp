@@ -1,0 +1,120 @@
+// The same TLSPH stages on every available device, compared with the host on random inputs.
+// CPU always runs; CUDA runs when the build has it and a GPU is present, and is skipped otherwise.
+// ISPH_REQUIRE_GPU_TESTS=1 turns that skip into a failure.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <omp.h>
+
+#include <random>
+
+#include "core/device_memory.hpp"
+#include "structure/tlsph.hpp"
+
+using namespace isph;
+
+namespace {
+
+bool gpu_required() {
+  const char* v = std::getenv("ISPH_REQUIRE_GPU_TESTS");
+  return v && std::string(v) == "1";
+}
+
+// A randomly deformed block with random velocities; fresh inputs for every seed.
+TlsphSolver<2> random_block(unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<Real> u(-1.0, 1.0);
+  TlsphSetup<2> s;
+  const Real dx = 0.01;
+  for (int i = 0; i < 40; ++i)
+    for (int j = 0; j < 12; ++j) {
+      s.X.push_back({{(i + 0.5) * dx, (j + 0.5) * dx}});
+      s.v.push_back({{u(rng), u(rng)}});
+      s.volume.push_back(dx * dx);
+      s.material.push_back(0);
+      s.body.push_back(0);
+      s.fixed.push_back(i < 3);
+    }
+  s.materials.push_back({1100.0, 2.0e7, 4.0e6, 1.2e7});
+  s.kernel = SmoothingKernel<2>::make(KernelType::cubic_spline, 1.2 * dx);
+  s.hourglass = 0.5;
+  s.damping = 3.0;
+  TlsphSolver<2> solver(s);
+  TlsphView<2> v = solver.view();
+  auto* x = const_cast<Vec<2>*>(v.x);
+  for (Index a = 0; a < v.n; ++a)
+    if (!s.fixed[a]) x[a] = x[a] + Vec<2>{{0.1 * dx * u(rng), 0.1 * dx * u(rng)}};
+  return solver;
+}
+
+template <class T>
+void poison(std::vector<T>& v) {
+  std::fill(reinterpret_cast<unsigned char*>(v.data()), reinterpret_cast<unsigned char*>(v.data() + v.size()), 0xFF);
+}
+
+}  // namespace
+
+TEST(DeviceStages, TlsphStressAndAccelerationCudaMatchesCpu) {
+  if (cuda_devices() == 0) {
+    if (gpu_required()) FAIL() << "ISPH_REQUIRE_GPU_TESTS=1 but no CUDA device is usable in this build";
+    GTEST_SKIP() << "no CUDA device (or the build has no CUDA backend)";
+  }
+  for (unsigned seed : {1u, 2u, 3u}) {
+    TlsphSolver<2> solver = random_block(seed);
+    TlsphView<2> h = solver.view();
+    const Index n = h.n, pairs = solver.pairs();
+    auto vec = [](const auto* p, std::size_t k) { return std::vector<std::remove_cv_t<std::remove_pointer_t<decltype(p)>>>(p, p + k); };
+    DeviceArray<Vec<2>> X(vec(h.X, n)), x(vec(h.x, n)), v(vec(h.v, n)), grad(vec(h.grad, pairs)),
+        cgrad(vec(h.cgrad, pairs)), load(std::vector<Vec<2>>(1, Vec<2>::zero()));
+    DeviceArray<Index> off(vec(h.nbr_offset, n + 1)), nbr(vec(h.nbr, pairs));
+    DeviceArray<Real> vw(vec(h.vw, pairs));
+    DeviceArray<Mat<2>> L(vec(h.L, n));
+    DeviceArray<int> mat(vec(h.material, n));
+    DeviceArray<ElasticMaterial> mats(vec(h.materials, 1));
+    DeviceArray<unsigned char> fixed(vec(h.fixed, n));
+    std::vector<Mat<2>> poisoned_m(n);
+    std::vector<Real> poisoned_r(n);
+    std::vector<Vec<2>> poisoned_v(n);
+    poison(poisoned_m), poison(poisoned_r), poison(poisoned_v);
+    DeviceArray<Mat<2>> F(poisoned_m), PL(poisoned_m);
+    DeviceArray<Real> psi(poisoned_r);
+    DeviceArray<Vec<2>> acc(poisoned_v);
+
+    TlsphView<2> d = h;
+    d.X = X.data(), d.x = x.data(), d.v = v.data(), d.grad = grad.data(), d.cgrad = cgrad.data(), d.vw = vw.data();
+    d.nbr_offset = off.data(), d.nbr = nbr.data(), d.L = L.data(), d.material = mat.data(), d.materials = mats.data();
+    d.fixed = fixed.data(), d.load_acc = load.data(), d.loads = 0;
+    d.F = F.data(), d.PL = PL.data(), d.psi = psi.data(), d.acc = acc.data();
+
+    tlsph_stress(Exec{Device::cpu}, h);
+    tlsph_acceleration(Exec{Device::cpu}, h);
+    tlsph_stress(Exec{Device::cuda}, d);
+    tlsph_acceleration(Exec{Device::cuda}, d);
+    const auto acc_d = acc.to_host();
+    const auto F_d = F.to_host();
+    for (Index a = 0; a < n; ++a) {
+      for (int i = 0; i < 2; ++i) {
+        EXPECT_NEAR(acc_d[a][i], h.acc[a][i], 1e-12 * (1 + std::abs(h.acc[a][i]))) << "seed " << seed << " particle " << a;
+        for (int j = 0; j < 2; ++j) EXPECT_NEAR(F_d[a](i, j), h.F[a](i, j), 1e-12);
+      }
+    }
+  }
+}
+
+// The host path of the same stage must be independent of the thread count (gather, no atomics).
+TEST(DeviceStages, CpuResultIndependentOfThreadCount) {
+  TlsphSolver<2> solver = random_block(9);
+  TlsphView<2> h = solver.view();
+  tlsph_stress(Exec{}, h);
+  tlsph_acceleration(Exec{}, h);
+  const std::vector<Vec<2>> many(h.acc, h.acc + h.n);
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  tlsph_stress(Exec{}, h);
+  tlsph_acceleration(Exec{}, h);
+  omp_set_num_threads(threads);
+  for (Index a = 0; a < h.n; ++a) {
+    EXPECT_EQ(many[a][0], h.acc[a][0]);
+    EXPECT_EQ(many[a][1], h.acc[a][1]);
+  }
+}

@@ -1,0 +1,133 @@
+// TLSPH: deformation gradient, stress, momentum and the time integrators.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "structure/tlsph.hpp"
+
+using namespace isph;
+
+namespace {
+
+// A rectangular block nx x ny of spacing dx; the first `clamped_columns` columns are clamped.
+TlsphSetup<2> block(int nx, int ny, Real dx, int clamped_columns, StructureIntegrator integrator) {
+  TlsphSetup<2> s;
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j) {
+      s.X.push_back({{(i + 0.5) * dx, (j + 0.5) * dx}});
+      s.v.push_back(Vec<2>::zero());
+      s.volume.push_back(dx * dx);
+      s.material.push_back(0);
+      s.body.push_back(0);
+      s.fixed.push_back(i < clamped_columns ? 1 : 0);
+    }
+  const Real E = 1e6, nu = 0.3;
+  s.materials.push_back({1000.0, E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu)), E});
+  s.kernel = SmoothingKernel<2>::make(KernelType::cubic_spline, 1.2 * dx);
+  s.integrator = integrator;
+  return s;
+}
+
+// Moves the solver's particles to x = A X + c through its host view.
+void deform(TlsphSolver<2>& solver, const Mat<2>& A, const Vec<2>& c) {
+  TlsphView<2> v = solver.view();
+  auto* x = const_cast<Vec<2>*>(v.x);
+  for (Index a = 0; a < v.n; ++a) x[a] = A * v.X[a] + c;
+}
+
+}  // namespace
+
+// F is exact for any affine map, at every particle including edges and corners (Eq. 36 with
+// the corrected gradient).
+TEST(Tlsph, DeformationGradientExactForAffineMaps) {
+  TlsphSolver<2> solver(block(12, 6, 0.01, 0, StructureIntegrator::rk4));
+  Mat<2> A;
+  A(0, 0) = 1.3; A(0, 1) = 0.2; A(1, 0) = -0.15; A(1, 1) = 0.8;
+  deform(solver, A, {{0.05, -0.02}});
+  solver.update_stress();
+  for (Index a = 0; a < solver.size(); ++a)
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j) ASSERT_NEAR(solver.deformation_gradient()[a](i, j), A(i, j), 1e-12);
+}
+
+TEST(Tlsph, WithoutCorrectionFIsNotExactAtEdges) {
+  auto s = block(12, 6, 0.01, 0, StructureIntegrator::rk4);
+  s.correction = false;
+  TlsphSolver<2> solver(s);
+  Mat<2> A = Mat<2>::identity();
+  A(0, 0) = 1.1;
+  deform(solver, A, Vec<2>::zero());
+  solver.update_stress();
+  Real worst = 0;
+  for (Index a = 0; a < solver.size(); ++a) worst = std::max(worst, std::abs(solver.deformation_gradient()[a](0, 0) - 1.1));
+  EXPECT_GT(worst, 1e-2);
+}
+
+// A rigid rotation produces no strain, no stress and no acceleration (objectivity of SVK).
+TEST(Tlsph, RigidRotationIsStressFree) {
+  TlsphSolver<2> solver(block(10, 5, 0.01, 0, StructureIntegrator::rk4));
+  const Real th = 0.7;
+  Mat<2> R;
+  R(0, 0) = std::cos(th); R(0, 1) = -std::sin(th); R(1, 0) = std::sin(th); R(1, 1) = std::cos(th);
+  deform(solver, R, {{0.3, 0.1}});
+  solver.update_stress();
+  EXPECT_LT(solver.strain_energy(), 1e-20);
+  for (Index a = 0; a < solver.size(); ++a) {
+    const Mat<2> sigma = solver.cauchy_stress(a);
+    EXPECT_NEAR(sigma(0, 0), 0.0, 1e-6);
+    EXPECT_NEAR(sigma(0, 1), 0.0, 1e-6);
+  }
+}
+
+// A uniform stretch of the free block: interior forces cancel and the block pulls itself back:
+// the left half is pulled to +x, the right half to -x, by equal and opposite resultants
+// (the pair forces are antisymmetric, so momentum is conserved).
+TEST(Tlsph, StretchedBlockPullsBackAndConservesMomentum) {
+  auto s = block(16, 8, 0.01, 0, StructureIntegrator::rk4);
+  TlsphSolver<2> solver(s);
+  Mat<2> A = Mat<2>::identity();
+  A(0, 0) = 1.01;
+  deform(solver, A, Vec<2>::zero());
+  TlsphView<2> v = solver.view();
+  tlsph_stress(Exec{}, v);
+  tlsph_acceleration(Exec{}, v);
+  const Real middle = 0.08 * 1.01;
+  Vec<2> left = Vec<2>::zero(), right = Vec<2>::zero();
+  for (Index a = 0; a < v.n; ++a) (v.x[a][0] < middle ? left : right) += v.acc[a];
+  EXPECT_GT(left[0], 0.0);
+  EXPECT_LT(right[0], 0.0);
+  EXPECT_NEAR(left[0] + right[0], 0.0, 1e-10 * left[0]);
+  EXPECT_NEAR(left[1] + right[1], 0.0, 1e-10 * left[0]);
+}
+
+// Convergence order of the integrators on a vibrating clamped block: the error against a
+// fine-step solution falls by 2^p when the step is halved (p = 4 for RK4, 2 for Verlet).
+double observed_order(StructureIntegrator integrator) {
+  auto run = [&](int steps) {
+    auto s = block(10, 3, 0.01, 3, integrator);
+    for (Index a = 0; a < static_cast<Index>(s.X.size()); ++a)
+      if (!s.fixed[a]) s.v[a] = {{0.0, 0.5 * (s.X[a][0] - 0.03)}};
+    TlsphSolver<2> solver(s);
+    const Real T = 40 * solver.stable_dt(0.5);
+    const Real dt = T / steps;
+    for (int k = 0; k < steps; ++k) solver.step(k * dt, dt);
+    return solver.position();
+  };
+  const auto ref = run(1280);
+  auto err = [&](int steps) {
+    const auto x = run(steps);
+    Real e = 0;
+    for (std::size_t a = 0; a < x.size(); ++a) e = std::max(e, std::sqrt(norm2(x[a] - ref[a])));
+    return e;
+  };
+  const double e1 = err(80), e2 = err(160);
+  return std::log2(e1 / e2);
+}
+
+TEST(TimeIntegration, Rk4IsFourthOrder) { EXPECT_NEAR(observed_order(StructureIntegrator::rk4), 4.0, 0.3); }
+TEST(TimeIntegration, VerletIsSecondOrder) { EXPECT_NEAR(observed_order(StructureIntegrator::verlet), 2.0, 0.2); }
+
+TEST(TimeIntegration, UnknownIntegratorIsAnError) {
+  EXPECT_THROW(structure_integrator_from_name("euler"), std::invalid_argument);
+}
