@@ -61,7 +61,7 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
   nbr_ = list.index;
   grad_.resize(nbr_.size());
   cgrad_.resize(nbr_.size());
-  vw_.resize(nbr_.size());
+  hg_weight_.resize(nbr_.size());
   L_.resize(n_);
   for (Index a = 0; a < n_; ++a) {
     Mat<D> moment = Mat<D>::zero();
@@ -69,14 +69,26 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
       const Index b = nbr_[k];
       const Vec<D> Xab = X_[a] - X_[b];
       grad_[k] = volume_[b] * kernel_.gradient(Xab);
-      vw_[k] = volume_[b] * kernel_.value(std::sqrt(norm2(Xab)));
+      hg_weight_[k] = volume_[b] * kernel_.value(std::sqrt(norm2(Xab))) / norm2(Xab);
       moment = moment + outer(X_[b] - X_[a], grad_[k]);
     }
     L_[a] = s.correction ? correction_from_moment(moment) : Mat<D>::identity();
     for (Index k = nbr_offset_[a]; k < nbr_offset_[a + 1]; ++k) cgrad_[k] = L_[a] * grad_[k];
   }
+  // Hourglass control needs, per pair (a, b), the corrected gradient of the reverse pair (b, a),
+  // and per particle the sum of its corrected gradients.
+  rcgrad_.resize(nbr_.size());
+  cgrad_sum_.assign(n_, Vec<D>::zero());
+  for (Index a = 0; a < n_; ++a)
+    for (Index k = nbr_offset_[a]; k < nbr_offset_[a + 1]; ++k) {
+      const Index b = nbr_[k];
+      cgrad_sum_[a] += cgrad_[k];
+      const auto first = nbr_.begin() + nbr_offset_[b], last = nbr_.begin() + nbr_offset_[b + 1];
+      rcgrad_[k] = cgrad_[std::find(first, last, a) - nbr_.begin()];  // the list is symmetric
+    }
   F_.assign(n_, Mat<D>::identity());
   PL_.assign(n_, Mat<D>::zero());
+  H_.assign(n_, Mat<D>::zero());
   psi_.assign(n_, 0);
   update_stress();
 }
@@ -90,7 +102,11 @@ TlsphView<D> TlsphSolver<D>::view() {
   s.nbr = nbr_.data();
   s.grad = grad_.data();
   s.cgrad = cgrad_.data();
-  s.vw = vw_.data();
+  s.hg_weight = hg_weight_.data();
+  s.rcgrad = rcgrad_.data();
+  s.cgrad_sum = cgrad_sum_.data();
+  s.volume = volume_.data();
+  s.H = H_.data();
   s.L = L_.data();
   s.material = material_.data();
   s.materials = materials_.data();
@@ -119,7 +135,7 @@ Real TlsphSolver<D>::stable_dt(Real courant) const {
 template <int D>
 void TlsphSolver<D>::update_stress() {
   tlsph_stress(exec_, view());
-  pair_evaluations_ += pairs();
+  pair_evaluations_ += (hourglass_ > 0 ? 2 : 1) * static_cast<long long>(pairs());
 }
 
 template <int D>
@@ -128,7 +144,7 @@ void TlsphSolver<D>::evaluate(Real t) {
   for (std::size_t l = 0; l < loads_.size(); ++l) s.load_factor[l] = loads_[l].factor(t);
   tlsph_stress(exec_, s);
   tlsph_acceleration(exec_, s);
-  pair_evaluations_ += 2 * static_cast<long long>(pairs());
+  pair_evaluations_ += (hourglass_ > 0 ? 3 : 2) * static_cast<long long>(pairs());
 }
 
 template <int D>

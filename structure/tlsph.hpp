@@ -99,8 +99,9 @@ class TlsphSolver {
   std::vector<unsigned char> fixed_;
   std::vector<Index> nbr_offset_, nbr_;
   std::vector<Vec<D>> grad_, cgrad_;
-  std::vector<Real> vw_;
-  std::vector<Mat<D>> L_, F_, PL_;
+  std::vector<Real> hg_weight_;
+  std::vector<Vec<D>> rcgrad_, cgrad_sum_;
+  std::vector<Mat<D>> L_, F_, PL_, H_;
   std::vector<Real> psi_;
   std::vector<Vec<D>> x0_, v0_, x_sum_, v_sum_;  // integrator scratch
   bool verlet_started_ = false;

@@ -24,7 +24,10 @@ struct TlsphView {
   const Index* nbr;
   const Vec<D>* grad;       // g_ab = V_b grad_a W(X_a - X_b)
   const Vec<D>* cgrad;      // L_a g_ab, the corrected gradient (Eq. 35-36)
-  const Real* vw;           // V_b W(|X_a - X_b|), for hourglass control
+  const Real* hg_weight;    // w_ab = V_b W(|X_ab|) / |X_ab|^2, for hourglass control
+  const Vec<D>* rcgrad;     // the reverse corrected gradient L_b g_ba, stored with pair (a, b)
+  const Vec<D>* cgrad_sum;  // sum_b L_a g_ab
+  const Real* volume;
   const Mat<D>* L;          // gradient correction L_a = K_a^{-T}
   const int* material;
   const ElasticMaterial* materials;
@@ -42,7 +45,8 @@ struct TlsphView {
   // outputs
   Mat<D>* F;       // deformation gradient
   Mat<D>* PL;      // first Piola-Kirchhoff stress times L: P_a L_a
-  Real* psi;       // strain energy per unit reference volume
+  Real* psi;       // strain energy per unit reference volume (hourglass energy included)
+  Mat<D>* H;       // hourglass moment H_a = sum_b w_ab eps_ab ⊗ X_ab
   Vec<D>* acc;
 };
 
@@ -69,15 +73,35 @@ struct TlsphStress {
     for (int i = 0; i < D; ++i) S(i, i) += m.lambda * trE;
     s.F[a] = F;
     s.PL[a] = (F * S) * s.L[a];
-    s.psi[a] = 0.5 * m.lambda * trE * trE + m.mu * ddot(E, E);
+    Real psi = 0.5 * m.lambda * trE * trE + m.mu * ddot(E, E);
+    if (s.hourglass > 0) {
+      // hourglass energy density (kappa/2) sum_b w_ab |eps_ab|^2 and moment H_a (see TlsphAcceleration)
+      Mat<D> H = Mat<D>::zero();
+      Real e = 0;
+      for (Index k = s.nbr_offset[a]; k < s.nbr_offset[a + 1]; ++k) {
+        const Index b = s.nbr[k];
+        const Vec<D> Xab = s.X[b] - s.X[a];
+        const Vec<D> eps = F * Xab - (s.x[b] - s.x[a]);
+        H = H + s.hg_weight[k] * outer(eps, Xab);
+        e += s.hg_weight[k] * norm2(eps);
+      }
+      s.H[a] = H;
+      psi += 0.25 * s.hourglass * m.youngs_modulus * e;
+    }
+    s.psi[a] = psi;
   }
 };
 
-// Momentum equation in the reference frame (Eq. 42):
-//   dv_a/dt = 1/rho_a sum_b (P_a L_a + P_b L_b) g_ab + g + loads - damping v_a
-// plus, when hourglass > 0, Ganzenmüller's (2015) hourglass control: with the pair error
-// eps^a_ab = F_a X_ab - x_ab (X_ab = X_b - X_a, x_ab = x_b - x_a) and delta^a_ab = eps^a_ab . x_ab/|x_ab|,
-//   f_a = -alpha/2 sum_b V_a V_b W_ab E / |X_ab|^2 (delta^a_ab + delta^b_ba) x_ab/|x_ab|.
+// Hourglass control (hourglass = alpha > 0): a penalty on the part of each pair's deformation
+// that the particle's deformation gradient does not describe, after Ganzenmüller (2015) but
+// derived from an energy, so that it conserves energy exactly:
+//   U_hg = kappa/2 sum_a V_a sum_b w_ab |eps_ab|^2,  eps_ab = F_a X_ab - x_ab,  kappa = alpha E / 2,
+// with X_ab = X_b - X_a, x_ab = x_b - x_a, w_ab = V_b W_ab / |X_ab|^2. U_hg is zero for every affine
+// deformation and positive for the zero-energy (odd-even) modes of the particle gradient; for a
+// smooth field eps_ab = O(|X_ab|^2), so its share of the energy vanishes as dx^2. Its force per unit
+// mass, with G_ab = L_a g_ab, H_a = sum_b w_ab eps_ab ⊗ X_ab and S_a = sum_b G_ab, is
+//   -dU_hg/dx_a / (rho V_a) = -kappa/rho_a [ sum_b w_ab (eps_ab - eps_ba) + sum_b (V_b/V_a) H_b G_ba - H_a S_a ],
+// where eps_ab - eps_ba = (F_a + F_b) X_ab - 2 x_ab.
 template <int D>
 struct TlsphAcceleration {
   TlsphView<D> s;
@@ -88,19 +112,20 @@ struct TlsphAcceleration {
     }
     const ElasticMaterial m = s.materials[s.material[a]];
     const Mat<D> PLa = s.PL[a];
-    const Mat<D> Fa = s.F[a];
-    const Real hg = 0.5 * s.hourglass * m.youngs_modulus;
     Vec<D> f = Vec<D>::zero();
-    for (Index k = s.nbr_offset[a]; k < s.nbr_offset[a + 1]; ++k) {
-      const Index b = s.nbr[k];
-      f += (PLa + s.PL[b]) * s.grad[k];
-      if (hg > 0) {
+    for (Index k = s.nbr_offset[a]; k < s.nbr_offset[a + 1]; ++k) f += (PLa + s.PL[s.nbr[k]]) * s.grad[k];
+    if (s.hourglass > 0) {
+      const Mat<D> Fa = s.F[a];
+      const Real kappa = 0.5 * s.hourglass * m.youngs_modulus;
+      Vec<D> h = -1.0 * (s.H[a] * s.cgrad_sum[a]);
+      for (Index k = s.nbr_offset[a]; k < s.nbr_offset[a + 1]; ++k) {
+        const Index b = s.nbr[k];
         const Vec<D> Xab = s.X[b] - s.X[a];
         const Vec<D> xab = s.x[b] - s.x[a];
-        const Real r2 = norm2(xab);
-        const Real delta_r = dot(Fa * Xab - xab, xab) + dot(s.F[b] * Xab - xab, xab);  // (delta^a + delta^b) |x_ab|
-        f += (-hg * s.vw[k] / norm2(Xab) * delta_r / r2) * xab;
+        h += s.hg_weight[k] * ((Fa + s.F[b]) * Xab - 2.0 * xab);  // w_ab (eps_ab - eps_ba)
+        h += (s.volume[b] / s.volume[a]) * (s.H[b] * s.rcgrad[k]);
       }
+      f += -kappa * h;
     }
     Vec<D> acc = (1.0 / m.density) * f + s.gravity - s.damping * s.v[a];
     for (int l = 0; l < s.loads; ++l) acc += s.load_factor[l] * s.load_acc[static_cast<long>(l) * s.n + a];

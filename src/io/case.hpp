@@ -90,7 +90,7 @@ struct StructureSpec {
   std::string integrator = "rk4";            // rk4 | verlet
   double courant = 0.5;                      // dt = courant * h / c_p (c_p: P-wave speed)
   double damping = 0.0;                      // mass-proportional damping rate [1/s]
-  double hourglass = 0.0;                    // hourglass control coefficient (0 = off)
+  double hourglass = 5.0;                    // hourglass control coefficient alpha (0 = off); docs/VALIDATION.md
 };
 
 struct OutputSpec {

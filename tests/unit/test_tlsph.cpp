@@ -101,6 +101,40 @@ TEST(Tlsph, StretchedBlockPullsBackAndConservesMomentum) {
   EXPECT_NEAR(left[1] + right[1], 0.0, 1e-10 * left[0]);
 }
 
+// The hourglass force is the exact negative gradient of the hourglass energy (so that energy is
+// conserved): compare the acceleration with a central finite difference of the total energy.
+TEST(Tlsph, InternalForceIsTheGradientOfTheStoredEnergy) {
+  for (Real alpha : {0.0, 10.0}) {
+    auto s = block(8, 5, 0.01, 0, StructureIntegrator::rk4);
+    s.hourglass = alpha;
+    TlsphSolver<2> solver(s);
+    TlsphView<2> v = solver.view();
+    auto* x = const_cast<Vec<2>*>(v.x);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<Real> u(-1e-3, 1e-3);
+    for (Index a = 0; a < v.n; ++a) x[a] = x[a] + Vec<2>{{u(rng), u(rng)}};
+    auto energy = [&] {
+      solver.update_stress();
+      return solver.strain_energy();
+    };
+    tlsph_stress(Exec{}, v);
+    tlsph_acceleration(Exec{}, v);
+    const std::vector<Vec<2>> acc(v.acc, v.acc + v.n);
+    const Real mass = 1000.0 * 0.01 * 0.01;
+    for (Index a : {0, 7, 21, 39})
+      for (int d = 0; d < 2; ++d) {
+        const Real e = 1e-7, keep = x[a][d];
+        x[a][d] = keep + e;
+        const Real up = energy();
+        x[a][d] = keep - e;
+        const Real down = energy();
+        x[a][d] = keep;
+        const Real force = -(up - down) / (2 * e);
+        EXPECT_NEAR(acc[a][d] * mass, force, 1e-5 * std::abs(force) + 1e-3) << "alpha " << alpha << " particle " << a;
+      }
+  }
+}
+
 // Convergence order of the integrators on a vibrating clamped block: the error against a
 // fine-step solution falls by 2^p when the step is halved (p = 4 for RK4, 2 for Verlet).
 double observed_order(StructureIntegrator integrator) {

@@ -1,0 +1,175 @@
+// Short, deterministic runs of the bundled structure cases through the `isph` command, asserting
+// physics against the analytical references of ../shared/reference/README.md, the output
+// contract, and the error handling. Seconds each.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kCases = std::string(ISPH_SOURCE_DIR) + "/cases/";
+
+struct CommandResult {
+  int status;
+  std::string output;  // stdout and stderr
+};
+
+CommandResult isph(const std::string& args) {
+  const std::string cmd = std::string(ISPH_BINARY) + " " + args + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[4096];
+  while (pipe && fgets(buf, sizeof buf, pipe)) out += buf;
+  const int rc = pipe ? pclose(pipe) : -1;
+  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, out};
+}
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path p = fs::temp_directory_path() / ("isph_regression_" + name);
+  fs::remove_all(p);
+  return p;
+}
+
+// A CSV with a header, as columns by name.
+std::map<std::string, std::vector<double>> read_csv(const fs::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  std::stringstream header(line);
+  for (std::string c; std::getline(header, c, ',');) names.push_back(c);
+  std::map<std::string, std::vector<double>> cols;
+  while (std::getline(in, line)) {
+    std::stringstream row(line);
+    std::size_t k = 0;
+    for (std::string c; std::getline(row, c, ',') && k < names.size(); ++k) cols[names[k]].push_back(std::stod(c));
+  }
+  return cols;
+}
+
+std::string read_file(const fs::path& file) {
+  std::ifstream in(file);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+}  // namespace
+
+// Cantilever at 1 % of the load (linear regime), 5 particles through the thickness, damped to
+// rest: the tip deflection approaches linear beam theory, 0.3359 mm (the full-resolution
+// convergence study is in docs/VALIDATION.md).
+TEST(Cantilever, CoarseLinearTipDeflection) {
+  const fs::path out = fresh_dir("cantilever");
+  const auto r = isph("run " + kCases + "cantilever.toml --quiet --out " + out.string() +
+                      " --set dx=0.002 --set 'loads.0.force=[0,-1.75e4]' --set output.snapshots=false");
+  ASSERT_EQ(r.status, 0) << r.output;
+  auto p = read_csv(out / "probes.csv");
+  const double uy = p["tip.uy"].back(), ux = p["tip.ux"].back();
+  EXPECT_LT(uy, 0.0);                                 // bends downward, with the load
+  EXPECT_NEAR(-uy, 0.3359e-3, 0.06 * 0.3359e-3);      // within 6 % at 5 particles
+  EXPECT_LT(std::abs(ux), 0.02 * std::abs(uy));        // small: horizontal shortening is second order
+  auto e = read_csv(out / "energy.csv");
+  EXPECT_LT(e["structure_kinetic"].back(), 1e-3 * e["structure_strain"].back());  // damped to a static state
+}
+
+// Oscillating plate at T/dx = 5 over one period: period and amplitude near the analytical
+// 0.2541 s and 0.02306 m, and total energy conserved without damping.
+TEST(OscillatingPlate, CoarsePeriodAmplitudeAndEnergy) {
+  const fs::path out = fresh_dir("plate");
+  const auto r = isph("run " + kCases + "oscillating_plate.toml --quiet --out " + out.string() +
+                      " --set dx=0.004 --set end_time=0.3 --set output.interval=5e-4 --set output.snapshots=false");
+  ASSERT_EQ(r.status, 0) << r.output;
+  auto p = read_csv(out / "probes.csv");
+  const auto& t = p["time"];
+  const auto& y = p["tip.uy"];
+  double peak = 0, crossing = -1;
+  for (std::size_t k = 1; k < y.size(); ++k) {
+    peak = std::max(peak, y[k]);
+    if (crossing < 0 && t[k] > 0.05 && y[k - 1] > 0 && y[k] <= 0)  // downward zero crossing: half a period
+      crossing = t[k - 1] + y[k - 1] * (t[k] - t[k - 1]) / (y[k - 1] - y[k]);
+  }
+  ASSERT_GT(crossing, 0.0) << "the plate did not swing back";
+  EXPECT_NEAR(2 * crossing, 0.2541, 0.08 * 0.2541);
+  EXPECT_NEAR(peak, 0.02306, 0.08 * 0.02306);
+  auto e = read_csv(out / "energy.csv");
+  const auto& total = e["total"];
+  for (double v : total) EXPECT_NEAR(v, total.front(), 1e-3 * total.front());
+}
+
+// The output contract of DESIGN.md: files, headers and summary keys.
+TEST(OutputContract, FilesHeadersAndSummary) {
+  const fs::path out = fresh_dir("contract");
+  const auto r = isph("run " + kCases + "oscillating_plate.toml --quiet --out " + out.string() +
+                      " --set dx=0.004 --set end_time=0.01 --set output.snapshot_interval=0.005");
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* f : {"probes.csv", "energy.csv", "summary.json", "case.resolved.toml"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  EXPECT_EQ(read_file(out / "probes.csv").substr(0, 24), "time,tip.ux,tip.uy\n0,0,0");
+  EXPECT_EQ(read_file(out / "energy.csv").rfind(
+                "time,fluid_kinetic,fluid_potential,structure_kinetic,structure_potential,structure_strain,"
+                "boundary_work,total\n", 0),
+            0u);
+  const std::string s = read_file(out / "summary.json");
+  for (const char* key : {"\"case\"", "\"dimension\"", "\"device\"", "\"particles\"", "\"steps\"", "\"simulated_time\"",
+                          "\"wall_time_s\"", "\"phases\"", "\"ppe\"", "\"status\": \"completed\"", "\"message\""})
+    EXPECT_NE(s.find(key), std::string::npos) << key;
+  for (const auto& e : fs::recursive_directory_iterator(out))
+    EXPECT_NE(e.path().extension(), ".tmp") << "left-over temporary file " << e.path();
+  if (fs::exists(out / "snapshots")) EXPECT_TRUE(fs::exists(out / "snapshots" / "snapshots.xmf"));
+  // the resolved configuration is a valid case that reproduces the run
+  const auto again = isph("check " + (out / "case.resolved.toml").string());
+  EXPECT_EQ(again.status, 0) << again.output;
+}
+
+// A run pushed past its stability limit stops with status "diverged", a non-zero exit and a
+// last snapshot, instead of writing NaNs to the end.
+TEST(Divergence, UnstableStepStopsTheRun) {
+  const fs::path out = fresh_dir("diverged");
+  const auto r = isph("run " + kCases + "oscillating_plate.toml --quiet --out " + out.string() +
+                      " --set dx=0.004 --set end_time=0.2 --set structure.courant=3.0");
+  EXPECT_EQ(r.status, 3) << r.output;
+  const std::string s = read_file(out / "summary.json");
+  EXPECT_NE(s.find("\"status\": \"diverged\""), std::string::npos) << s;
+  EXPECT_NE(s.find("courant"), std::string::npos) << s;  // the message says what to try
+}
+
+// Bad input: a clear message naming the file, key and reason, and a non-zero exit.
+TEST(BadInput, ClearErrors) {
+  const std::string plate = kCases + "oscillating_plate.toml";
+  const std::vector<std::array<std::string, 2>> cases = {
+      {"check /nonexistent/case.toml", "cannot open"},
+      {"check " + plate + " --set dx=-0.001", "dx"},
+      {"check " + plate + " --set materials.0.bulk_modulus=-1", "bulk_modulus"},
+      {"check " + plate + " --set materials.0.poisson_ratio=0.5", "poisson_ratio"},
+      {"check " + plate + " --set no_such_key=1", "no_such_key"},
+      {"check " + plate + " --set 'bodies.0.shape.max=[-0.0059,-0.0099]'", "no particles"},
+      {"check " + plate + " --set 'probes.0.point=[0.5,0.5]'", "outside"},
+      {"check " + plate + " --set 'bodies.0.clamps.0.max=[-0.0059,0.01]' --set 'bodies.0.clamps.0.min=[-0.006,-0.01]'",
+       "clamp"},
+      {"run " + plate + " --set structure.integrator=euler --out /tmp/isph_regression_bad", "integrator"},
+  };
+  for (const auto& [args, word] : cases) {
+    const auto r = isph(args);
+    EXPECT_NE(r.status, 0) << args;
+    EXPECT_NE(r.output.find(word), std::string::npos) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find("error"), std::string::npos) << args << "\n" << r.output;
+  }
+}
+
+TEST(Cli, ListsTheBundledCases) {
+  const auto r = isph("cases");
+  EXPECT_EQ(r.status, 0);
+  for (const char* c : {"cantilever.toml", "oscillating_plate.toml", "csm3_beam.toml"})
+    EXPECT_NE(r.output.find(c), std::string::npos) << c;
+}
