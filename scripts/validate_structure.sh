@@ -3,6 +3,7 @@
 # Writes every run under runs/validation/ and then the tables and plots of docs/VALIDATION.md:
 #   bash scripts/validate_structure.sh            # all runs, then the report
 #   bash scripts/validate_structure.sh report     # only the report, from existing runs
+# Runs already completed are skipped; SKIP="name ..." skips others; THREADS sets --threads.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ISPH=${ISPH:-build/isph}
@@ -14,6 +15,9 @@ run() {  # run NAME CASE [--set ...]
   local name=$1 case=$2; shift 2
   if [ -f "$OUT/$name/summary.json" ] && grep -q '"completed"' "$OUT/$name/summary.json"; then
     echo "skip $name (done)"; return
+  fi
+  if [ -n "${SKIP:-}" ] && [[ " $SKIP " == *" $name "* ]]; then
+    echo "skip $name (SKIP)"; return
   fi
   echo "run  $name"
   "$ISPH" run "$case" --out "$OUT/$name" --threads "$THREADS" --quiet "$@"

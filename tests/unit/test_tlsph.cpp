@@ -165,3 +165,40 @@ TEST(TimeIntegration, VerletIsSecondOrder) { EXPECT_NEAR(observed_order(Structur
 TEST(TimeIntegration, UnknownIntegratorIsAnError) {
   EXPECT_THROW(structure_integrator_from_name("euler"), std::invalid_argument);
 }
+
+// The same solver in 3D: F is exact for an affine map and a rigid rotation is stress-free.
+TEST(Tlsph3D, AffineMapsAndRigidRotation) {
+  TlsphSetup<3> s;
+  const Real dx = 0.01;
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 4; ++j)
+      for (int k = 0; k < 3; ++k) {
+        s.X.push_back({{(i + 0.5) * dx, (j + 0.5) * dx, (k + 0.5) * dx}});
+        s.v.push_back(Vec<3>::zero());
+        s.volume.push_back(dx * dx * dx);
+        s.material.push_back(0);
+        s.body.push_back(0);
+        s.fixed.push_back(0);
+      }
+  s.materials.push_back({1000.0, 5.0e5, 4.0e5, 1.0e6});
+  s.kernel = SmoothingKernel<3>::make(KernelType::wendland_c2, 1.3 * dx);
+  TlsphSolver<3> solver(s);
+  auto move = [&](const Mat<3>& A) {
+    TlsphView<3> v = solver.view();
+    auto* x = const_cast<Vec<3>*>(v.x);
+    for (Index a = 0; a < v.n; ++a) x[a] = A * v.X[a];
+    solver.update_stress();
+  };
+  Mat<3> A = Mat<3>::identity();
+  A(0, 1) = 0.3, A(2, 0) = -0.2, A(1, 1) = 1.1;
+  move(A);
+  for (Index a = 0; a < solver.size(); ++a)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) ASSERT_NEAR(solver.deformation_gradient()[a](i, j), A(i, j), 1e-12);
+  EXPECT_GT(solver.strain_energy(), 0.0);
+  const Real c = std::cos(0.4), sn = std::sin(0.4);
+  Mat<3> R = Mat<3>::identity();
+  R(0, 0) = c, R(0, 2) = sn, R(2, 0) = -sn, R(2, 2) = c;
+  move(R);
+  EXPECT_LT(solver.strain_energy(), 1e-20);
+}

@@ -1,0 +1,266 @@
+// The solver factory, option checking, and the frame shared by every backend (see linear_solver.hpp).
+#include "poisson/linear_solver.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+#include <utility>
+
+namespace isph {
+
+namespace detail {
+// Defined in eigen_solver.cpp and hypre_solver.cpp.
+std::unique_ptr<LinearSolver> make_eigen_solver(const SolverSettings&);
+std::unique_ptr<LinearSolver> make_hypre_solver(const SolverSettings&);
+}  // namespace detail
+
+namespace {
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& e : v) s += (s.empty() ? "" : ", ") + e;
+  return s;
+}
+
+void require_one_of(const std::string& option, const std::string& value, const std::vector<std::string>& allowed,
+                    const std::string& context = "") {
+  if (std::find(allowed.begin(), allowed.end(), value) != allowed.end()) return;
+  throw std::invalid_argument("linear solver: unknown " + option + " '" + value + "'" + context +
+                              " (allowed: " + join(allowed) + ")");
+}
+
+bool all_finite(const std::vector<double>& v) {
+  return std::all_of(v.begin(), v.end(), [](double e) { return std::isfinite(e); });
+}
+
+double norm2(const std::vector<double>& v) {
+  double s = 0;
+  for (double e : v) s += e * e;
+  return std::sqrt(s);
+}
+
+// True when every row has strictly increasing columns (sorted, no duplicates).
+bool is_canonical(const CsrMatrix& A) {
+  for (int i = 0; i < A.rows; ++i)
+    for (int k = A.row_offset[i] + 1; k < A.row_offset[i + 1]; ++k)
+      if (A.col[k] <= A.col[k - 1]) return false;
+  return true;
+}
+
+// Sorts the columns of every row and sums duplicates.
+CsrMatrix canonical(const CsrMatrix& A) {
+  CsrMatrix C;
+  C.rows = A.rows;
+  C.row_offset.assign(A.rows + 1, 0);
+  C.col.reserve(A.col.size());
+  C.val.reserve(A.val.size());
+  std::vector<std::pair<int, double>> row;
+  for (int i = 0; i < A.rows; ++i) {
+    row.clear();
+    for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k) row.emplace_back(A.col[k], A.val[k]);
+    std::sort(row.begin(), row.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const auto& [c, v] : row) {
+      if (static_cast<int>(C.col.size()) > C.row_offset[i] && C.col.back() == c) {
+        C.val.back() += v;
+      } else {
+        C.col.push_back(c);
+        C.val.push_back(v);
+      }
+    }
+    C.row_offset[i + 1] = static_cast<int>(C.col.size());
+  }
+  return C;
+}
+
+std::string sci(double v) {
+  std::ostringstream s;
+  s.precision(3);
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+bool hypre_available() {
+#ifdef ISPH_HAVE_HYPRE
+  return true;
+#else
+  return false;
+#endif
+}
+
+std::unique_ptr<LinearSolver> make_linear_solver(const SolverSettings& s) {
+  require_one_of("backend", s.backend, {"eigen", "hypre"});
+  require_one_of("method", s.method, {"bicgstab", "gmres"});
+  if (s.backend == "eigen")
+    require_one_of("preconditioner", s.preconditioner, {"jacobi", "ilu", "none"}, " for backend 'eigen'");
+  else
+    require_one_of("preconditioner", s.preconditioner, {"boomeramg", "jacobi", "none"}, " for backend 'hypre'");
+  if (!(s.tolerance > 0 && s.tolerance < 1))
+    throw std::invalid_argument("linear solver: tolerance must be in (0, 1), got " + sci(s.tolerance));
+  if (s.max_iterations < 1)
+    throw std::invalid_argument("linear solver: max_iterations must be at least 1, got " +
+                                std::to_string(s.max_iterations));
+  if (s.gmres_restart < 1)
+    throw std::invalid_argument("linear solver: gmres_restart must be at least 1, got " +
+                                std::to_string(s.gmres_restart));
+  if (s.backend == "hypre") {
+    if (!hypre_available())
+      throw std::invalid_argument(
+          "linear solver: backend 'hypre' was requested but this build has no hypre (ISPH_HAVE_HYPRE is not "
+          "defined; install libhypre-dev and libopenmpi-dev and reconfigure, or use backend 'eigen')");
+    return detail::make_hypre_solver(s);
+  }
+  return detail::make_eigen_solver(s);
+}
+
+void check_linear_system(const CsrMatrix& A, const std::vector<double>& b, const std::vector<double>& x) {
+  const auto fail = [](const std::string& why) { throw std::invalid_argument("linear solver: " + why); };
+  if (A.rows < 0) fail("matrix has a negative number of rows");
+  const auto n = static_cast<std::size_t>(A.rows);
+  if (n == 0 && A.row_offset.empty() && A.col.empty() && A.val.empty()) {  // a default-constructed matrix
+    if (!b.empty() || !x.empty()) fail("b and x must be empty for an empty matrix");
+    return;
+  }
+  if (A.row_offset.size() != n + 1)
+    fail("row_offset has " + std::to_string(A.row_offset.size()) + " entries, expected rows + 1 = " +
+         std::to_string(n + 1));
+  if (A.row_offset[0] != 0) fail("row_offset[0] must be 0");
+  for (std::size_t i = 0; i < n; ++i)
+    if (A.row_offset[i + 1] < A.row_offset[i]) fail("row_offset decreases at row " + std::to_string(i));
+  const auto nnz = static_cast<std::size_t>(A.row_offset[n]);
+  if (A.col.size() != nnz || A.val.size() != nnz)
+    fail("col and val must have row_offset[rows] = " + std::to_string(nnz) + " entries (have " +
+         std::to_string(A.col.size()) + " and " + std::to_string(A.val.size()) + ")");
+  for (std::size_t k = 0; k < nnz; ++k)
+    if (A.col[k] < 0 || A.col[k] >= A.rows)
+      fail("column index " + std::to_string(A.col[k]) + " out of range [0, " + std::to_string(A.rows) + ")");
+  if (b.size() != n) fail("b has " + std::to_string(b.size()) + " entries, matrix has " + std::to_string(n) + " rows");
+  if (!x.empty() && x.size() != n)
+    fail("x has " + std::to_string(x.size()) + " entries, matrix has " + std::to_string(n) + " rows");
+}
+
+double relative_residual(const CsrMatrix& A, const std::vector<double>& b, const std::vector<double>& x) {
+  double r2 = 0, b2 = 0;
+#pragma omp parallel for reduction(+ : r2, b2) schedule(static)
+  for (int i = 0; i < A.rows; ++i) {
+    double r = b[i];
+    for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k) r -= A.val[k] * x[A.col[k]];
+    r2 += r * r;
+    b2 += b[i] * b[i];
+  }
+  return b2 > 0 ? std::sqrt(r2 / b2) : std::sqrt(r2);
+}
+
+namespace detail {
+
+std::string KrylovSolverFrame::name() const {
+  return settings_.backend + "-" + settings_.method + "-" + settings_.preconditioner;
+}
+
+SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, const std::vector<double>& b, std::vector<double>& x) {
+  const auto start = std::chrono::steady_clock::now();
+  check_linear_system(A_in, b, x);
+  const int n = A_in.rows;
+  if (x.empty()) x.assign(n, 0.0);
+
+  SolveReport report;
+  const auto done = [&](std::string message) {
+    report.message = std::move(message);
+    report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return report;
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double tol = settings_.tolerance;
+
+  if (n == 0) {
+    report.converged = true;
+    return done("empty system");
+  }
+  if (!all_finite(A_in.val)) {
+    report.relative_residual = nan;
+    return done("the matrix has NaN or Inf entries: not solved, x unchanged");
+  }
+  if (!all_finite(b)) {
+    report.relative_residual = nan;
+    return done("the right-hand side has NaN or Inf entries: not solved, x unchanged");
+  }
+  if (norm2(b) == 0) {
+    std::fill(x.begin(), x.end(), 0.0);
+    report.converged = true;
+    return done("b = 0: x = 0");
+  }
+  std::string notes;
+  if (!all_finite(x)) {
+    std::fill(x.begin(), x.end(), 0.0);
+    notes = "NaN/Inf initial guess replaced by zero; ";
+  }
+
+  CsrMatrix sorted;
+  const bool needs_copy = !is_canonical(A_in);
+  if (needs_copy) sorted = canonical(A_in);
+  const CsrMatrix& A = needs_copy ? sorted : A_in;
+
+  double rel = relative_residual(A, b, x);
+  report.relative_residual = rel;
+  if (rel <= tol) {
+    report.converged = true;
+    return done(notes + "the initial guess meets the tolerance");
+  }
+
+  struct Releaser {
+    KrylovSolverFrame* self;
+    ~Releaser() { self->release(); }
+  } releaser{this};
+
+  if (std::string why = setup(A, b); !why.empty()) return done(notes + "setup failed: " + why);
+
+  const std::vector<double> x0 = x;
+  const double eps = std::numeric_limits<double>::epsilon();
+  int remaining = settings_.max_iterations;
+  std::string last_note;
+  constexpr int max_passes = 6;
+  int pass = 0;
+  for (; pass < max_passes && remaining > 0; ++pass) {
+    // Internal tolerance that should bring the true residual below tol: relative to ||b|| it is tol
+    // (tightened on later passes, against the drift of recursively updated residuals); relative to the
+    // initial residual of the pass it is tol * ||b|| / ||r||.
+    double inner = tolerance_relative_to_initial_residual() ? tol / rel * (pass == 0 ? 1.0 : 0.5)
+                                                            : tol * std::pow(0.3, pass);
+    inner = std::clamp(inner, eps, 0.5);
+    const Pass p = iterate(x, inner, remaining);
+    report.iterations += p.iterations;
+    remaining -= std::max(p.iterations, 1);
+    if (!p.note.empty()) last_note = p.note;
+    if (!all_finite(x)) {
+      x = x0;
+      report.converged = false;
+      report.relative_residual = relative_residual(A, b, x);
+      return done(notes + "the solver produced NaN/Inf (breakdown or a singular preconditioner" +
+                  (last_note.empty() ? "" : ": " + last_note) + "); x restored to the initial guess");
+    }
+    const double previous = rel;
+    rel = relative_residual(A, b, x);
+    report.relative_residual = rel;
+    if (rel <= tol) {
+      report.converged = true;
+      break;
+    }
+    // Another pass only while it helps: the first refinement always, later ones on real progress.
+    if (pass > 0 && !(rel < 0.5 * previous)) break;
+  }
+  if (report.converged)
+    return done(notes + "converged in " + std::to_string(report.iterations) + " iterations" +
+                (pass > 0 ? " (" + std::to_string(pass + 1) + " passes)" : ""));
+  std::string why = remaining <= 0 ? "iteration limit " + std::to_string(settings_.max_iterations) + " reached"
+                                   : "stagnated";
+  return done(notes + "not converged: " + why + ", relative residual " + sci(rel) + " > tolerance " + sci(tol) +
+              (last_note.empty() ? "" : " (" + last_note + ")"));
+}
+
+}  // namespace detail
+}  // namespace isph

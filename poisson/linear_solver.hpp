@@ -1,0 +1,104 @@
+// Sparse linear solvers for the pressure Poisson equation, behind one small interface.
+//
+// Backends (docs/SOLVERS.md):
+//   eigen : Eigen 3.4 BiCGSTAB or restarted GMRES, preconditioned by Jacobi, ILUT or nothing.
+//   hypre : hypre ParCSR BiCGSTAB or GMRES, preconditioned by one BoomerAMG V-cycle, Jacobi or
+//           nothing (only when the build found hypre + MPI: ISPH_HAVE_HYPRE).
+// Every backend reports the TRUE relative residual ||b - A x|| / ||b||, recomputed from the CSR
+// matrix after the solve, and calls the solve converged only when that residual meets the tolerance.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace isph {
+
+// Square sparse matrix in compressed sparse row form: the entries of row i are
+// col[row_offset[i] .. row_offset[i+1]) and val[...]. Columns need not be sorted within a row;
+// duplicate (row, col) entries are summed.
+struct CsrMatrix {
+  int rows = 0;
+  std::vector<int> row_offset;
+  std::vector<int> col;
+  std::vector<double> val;
+};
+
+struct SolverSettings {
+  std::string backend = "eigen";       // eigen | hypre
+  std::string method = "bicgstab";     // bicgstab | gmres
+  std::string preconditioner = "ilu";  // eigen: jacobi | ilu | none ; hypre: boomeramg | jacobi | none
+  double tolerance = 1e-8;             // relative residual ||b - Ax|| / ||b||
+  int max_iterations = 1000;           // Krylov iterations in total (over restarts and refinement passes)
+  int gmres_restart = 50;              // Krylov subspace dimension of GMRES
+};
+
+struct SolveReport {
+  bool converged = false;
+  int iterations = 0;
+  double relative_residual = 0;  // true ||b - A x|| / ||b|| of the returned x (||b - A x|| when b = 0)
+  double seconds = 0;            // wall time of the whole call: copies, preconditioner setup, solve
+  std::string message;
+};
+
+class LinearSolver {
+ public:
+  virtual ~LinearSolver() = default;
+  // Solves A x = b; x holds the initial guess on entry (an empty x means a zero guess). Never throws on
+  // non-convergence, breakdown, NaN or Inf: reports it (converged=false, residual, iterations,
+  // message). Throws std::invalid_argument on a malformed matrix or mismatched sizes.
+  // b = 0 gives x = 0. A non-finite initial guess is replaced by zero. When the solver produces a
+  // non-finite x, x is restored to the initial guess and the report says so.
+  virtual SolveReport solve(const CsrMatrix& A, const std::vector<double>& b, std::vector<double>& x) = 0;
+  virtual std::string name() const = 0;  // e.g. "eigen-bicgstab-ilu", "hypre-gmres-boomeramg"
+};
+
+// Throws std::invalid_argument naming the bad option and its allowed values; asking for hypre in a
+// build without it (ISPH_HAVE_HYPRE undefined) is also an std::invalid_argument that says so.
+std::unique_ptr<LinearSolver> make_linear_solver(const SolverSettings&);
+
+// True when this build contains the hypre backend.
+bool hypre_available();
+
+// Throws std::invalid_argument unless A is a well-formed square CSR matrix (offsets monotone, columns
+// in range) and b (and x, unless empty) have A.rows entries.
+void check_linear_system(const CsrMatrix& A, const std::vector<double>& b, const std::vector<double>& x);
+
+// ||b - A x|| / ||b||, or ||b - A x|| when b = 0 (sizes are assumed checked).
+double relative_residual(const CsrMatrix& A, const std::vector<double>& b, const std::vector<double>& x);
+
+namespace detail {
+
+// The frame every backend shares (linear_solver.cpp): argument checks, the trivial cases (empty system,
+// b = 0, non-finite input, an initial guess that already meets the tolerance), timing, NaN guards,
+// the true residual, and refinement passes: when a backend stops on its own residual estimate but the
+// true residual misses the tolerance, the Krylov method is restarted from the current x with a tighter
+// internal tolerance, within the remaining iteration budget. A backend supplies setup and one pass.
+class KrylovSolverFrame : public LinearSolver {
+ public:
+  explicit KrylovSolverFrame(const SolverSettings& settings) : settings_(settings) {}
+  SolveReport solve(const CsrMatrix& A, const std::vector<double>& b, std::vector<double>& x) final;
+  std::string name() const final;
+
+ protected:
+  struct Pass {
+    int iterations = 0;
+    bool claimed_converged = false;  // the backend's own stopping test was met
+    std::string note;                // why it stopped otherwise (breakdown, ...), or empty
+  };
+  // Copies A (columns sorted within each row, no duplicates, all values finite) and b into the
+  // backend and builds the preconditioner. Returns an empty string, or why the setup failed.
+  virtual std::string setup(const CsrMatrix& A, const std::vector<double>& b) = 0;
+  // Runs the Krylov method from x (in/out) until its own residual estimate falls below tol (relative
+  // to ||b||, or to the initial residual of this pass when tolerance_relative_to_initial_residual())
+  // or after max_iterations iterations.
+  virtual Pass iterate(std::vector<double>& x, double tol, int max_iterations) = 0;
+  // Frees what setup() made; called after every solve, also when it failed or threw.
+  virtual void release() = 0;
+  virtual bool tolerance_relative_to_initial_residual() const = 0;
+
+  SolverSettings settings_;
+};
+
+}  // namespace detail
+}  // namespace isph
