@@ -128,7 +128,8 @@ def cantilever(runs, metrics):
 
 
 def load_probe(run):
-    return load(run, "probes.csv") if os.path.isdir(run) else None
+    """The probes of a finished run (one with summary.json), else None."""
+    return load(run, "probes.csv") if os.path.exists(os.path.join(run, "summary.json")) else None
 
 
 def plate(runs, metrics):
