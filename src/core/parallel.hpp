@@ -42,6 +42,8 @@ void cuda_parallel_for(Index n, const F& f) {
 }
 #endif
 
+inline constexpr Index kMinParallelLoop = 2048;
+
 template <class F>
 void parallel_for(const Exec& exec, Index n, const F& f) {
   if (exec.device == Device::cuda) {
@@ -52,7 +54,9 @@ void parallel_for(const Exec& exec, Index n, const F& f) {
     throw std::runtime_error("parallel_for: this loop was not compiled for CUDA (build with nvcc)");
 #endif
   }
-#pragma omp parallel for schedule(static)
+  // Small loops run on one thread: a parallel region costs more than it saves there, and far more
+  // when the cores are oversubscribed (every barrier then waits for a time slice).
+#pragma omp parallel for schedule(static) if (n >= kMinParallelLoop)
   for (Index i = 0; i < n; ++i) f(i);
 }
 

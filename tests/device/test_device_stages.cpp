@@ -21,12 +21,12 @@ bool gpu_required() {
 }
 
 // A randomly deformed block with random velocities; fresh inputs for every seed.
-TlsphSolver<2> random_block(unsigned seed) {
+TlsphSolver<2> random_block(unsigned seed, int columns = 40) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<Real> u(-1.0, 1.0);
   TlsphSetup<2> s;
   const Real dx = 0.01;
-  for (int i = 0; i < 40; ++i)
+  for (int i = 0; i < columns; ++i)
     for (int j = 0; j < 12; ++j) {
       s.X.push_back({{(i + 0.5) * dx, (j + 0.5) * dx}});
       s.v.push_back({{u(rng), u(rng)}});
@@ -106,8 +106,10 @@ TEST(DeviceStages, TlsphStressAndAccelerationCudaMatchesCpu) {
 }
 
 // The host path of the same stage must be independent of the thread count (gather, no atomics).
+// The block is larger than kMinParallelLoop, so that the loops really run on several threads.
 TEST(DeviceStages, CpuResultIndependentOfThreadCount) {
-  TlsphSolver<2> solver = random_block(9);
+  TlsphSolver<2> solver = random_block(9, 200);
+  ASSERT_GE(solver.size(), kMinParallelLoop);
   TlsphView<2> h = solver.view();
   tlsph_stress(Exec{}, h);
   tlsph_acceleration(Exec{}, h);
