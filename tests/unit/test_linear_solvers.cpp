@@ -10,75 +10,14 @@
 #include <vector>
 
 #include "poisson/linear_solver.hpp"
+#include "poisson/manufactured_system.hpp"
 
 using namespace isph;
 
 namespace {
 
-struct Manufactured {
-  CsrMatrix A;
-  std::vector<double> x_star, b;
-};
-
-// n x n grid on the unit square, 9-point stencil. Row i of a particle: a_ij = -w_ij (1 + 0.6 cos theta_ij)
-// for the neighbours j inside the grid (a Laplacian plus an upwind-like convection along (1, 0.5),
-// perturbed per entry by +-20 % like a disordered particle cloud), a_ii = sum_j |a_ij|: a weakly
-// diagonally dominant M-matrix with zero row sums, Neumann-like at the walls. The top row (the free
-// surface) and every 97th row (splashed particles) are identity rows with b_i = x*_i; the other rows keep
-// those columns, as the PPE does.
-Manufactured manufactured(int n) {
-  Manufactured m;
-  const int N = n * n;
-  m.A.rows = N;
-  m.A.row_offset.assign(1, 0);
-  m.x_star.resize(N);
-  const double h = 1.0 / (n - 1);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const double x = i * h, y = j * h;
-      m.x_star[j * n + i] = std::sin(std::numbers::pi * x) * std::cos(2 * std::numbers::pi * y) + x * y + 1.0;
-    }
-  const double ex = 1.0 / std::sqrt(1.25), ey = 0.5 / std::sqrt(1.25);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const int row = j * n + i;
-      if (j == n - 1 || row % 97 == 0) {
-        m.A.col.push_back(row);
-        m.A.val.push_back(1.0);
-      } else {
-        double diag = 0;
-        const std::size_t diag_at = m.A.col.size();
-        m.A.col.push_back(row);
-        m.A.val.push_back(0.0);
-        for (int dj = -1; dj <= 1; ++dj)
-          for (int di = -1; di <= 1; ++di) {
-            if ((di == 0 && dj == 0) || i + di < 0 || i + di >= n || j + dj < 0 || j + dj >= n) continue;
-            const double r2 = di * di + dj * dj;
-            const double cos_theta = (di * ex + dj * ey) / std::sqrt(r2);
-            const double jitter = 1.0 + 0.2 * std::sin(12.9898 * row + 78.233 * (3 * dj + di));
-            const double a = -(1.0 / r2) * (1.0 + 0.6 * cos_theta) * jitter;
-            m.A.col.push_back((j + dj) * n + (i + di));
-            m.A.val.push_back(a);
-            diag -= a;
-          }
-        m.A.val[diag_at] = diag;
-      }
-      m.A.row_offset.push_back(static_cast<int>(m.A.col.size()));
-    }
-  m.b.assign(N, 0.0);
-  for (int r = 0; r < N; ++r)
-    for (int k = m.A.row_offset[r]; k < m.A.row_offset[r + 1]; ++k) m.b[r] += m.A.val[k] * m.x_star[m.A.col[k]];
-  return m;
-}
-
-double relative_difference(const std::vector<double>& a, const std::vector<double>& b) {
-  double d = 0, s = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    d += (a[i] - b[i]) * (a[i] - b[i]);
-    s += b[i] * b[i];
-  }
-  return std::sqrt(d / s);
-}
+// The 9-point manufactured system (poisson/manufactured_system.hpp).
+ManufacturedSystem manufactured(int n) { return manufactured_ppe_system(n, 9); }
 
 SolverSettings settings(const std::string& backend, const std::string& method, const std::string& precond,
                         double tol = 1e-10) {
@@ -94,6 +33,9 @@ SolverSettings settings(const std::string& backend, const std::string& method, c
 struct Combination {
   std::string backend, method, preconditioner;
 };
+
+// Names the combination in test output (instead of the parameter's bytes).
+void PrintTo(const Combination& c, std::ostream* os) { *os << c.backend << "-" << c.method << "-" << c.preconditioner; }
 
 std::vector<Combination> all_combinations() {
   std::vector<Combination> c;
