@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "core/neighbour_search.hpp"
-#include "kernels/gradient_correction.hpp"
+#include "kernels/operators.hpp"
 
 namespace isph {
 
@@ -55,7 +55,8 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
   load_acc_.reserve(loads_.size() * n_);
   for (const auto& l : loads_) load_acc_.insert(load_acc_.end(), l.acc.begin(), l.acc.end());
 
-  // Reference configuration: neighbours within the same body, kernel gradients and L (Eq. 35).
+  // Reference configuration: neighbours within the same body, the correction L (Eq. 35) and the
+  // per-pair kernel gradients.
   const NeighbourList list = build_neighbour_list<D>(X_, kernel_.support(), s.body.data());
   nbr_offset_ = list.offset;
   nbr_ = list.index;
@@ -63,18 +64,19 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
   cgrad_.resize(nbr_.size());
   hg_weight_.resize(nbr_.size());
   L_.resize(n_);
-  for (Index a = 0; a < n_; ++a) {
-    Mat<D> moment = Mat<D>::zero();
+  if (s.correction)
+    parallel_for(exec_, n_,
+                 GradientCorrection<D>{{n_, X_.data(), volume_.data(), nbr_offset_.data(), nbr_.data(), kernel_}, L_.data()});
+  else
+    L_.assign(n_, Mat<D>::identity());
+  for (Index a = 0; a < n_; ++a)
     for (Index k = nbr_offset_[a]; k < nbr_offset_[a + 1]; ++k) {
       const Index b = nbr_[k];
       const Vec<D> Xab = X_[a] - X_[b];
       grad_[k] = volume_[b] * kernel_.gradient(Xab);
+      cgrad_[k] = L_[a] * grad_[k];
       hg_weight_[k] = volume_[b] * kernel_.value(std::sqrt(norm2(Xab))) / norm2(Xab);
-      moment = moment + outer(X_[b] - X_[a], grad_[k]);
     }
-    L_[a] = s.correction ? correction_from_moment(moment) : Mat<D>::identity();
-    for (Index k = nbr_offset_[a]; k < nbr_offset_[a + 1]; ++k) cgrad_[k] = L_[a] * grad_[k];
-  }
   // Hourglass control needs, per pair (a, b), the corrected gradient of the reverse pair (b, a),
   // and per particle the sum of its corrected gradients.
   rcgrad_.resize(nbr_.size());
@@ -187,12 +189,8 @@ void TlsphSolver<D>::step_verlet(Real t, Real dt) {
 
 template <int D>
 Mat<D> TlsphSolver<D>::cauchy_stress(Index a) const {
-  const ElasticMaterial& m = materials_[material_[a]];
   const Mat<D>& F = F_[a];
-  const Mat<D> E = 0.5 * (transpose(F) * F - Mat<D>::identity());
-  Mat<D> S = (2 * m.mu) * E;
-  for (int i = 0; i < D; ++i) S(i, i) += m.lambda * trace(E);
-  return (1.0 / determinant(F)) * (F * S * transpose(F));
+  return (1.0 / determinant(F)) * (F * svk_stress(F, materials_[material_[a]]) * transpose(F));
 }
 
 template <int D>

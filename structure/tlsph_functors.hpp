@@ -15,6 +15,18 @@ struct ElasticMaterial {
   Real youngs_modulus;
 };
 
+// St. Venant-Kirchhoff: Green-Lagrange strain E = (F^T F - I)/2, second Piola-Kirchhoff stress
+// S = lambda tr(E) I + 2 mu E, strain energy density psi = lambda/2 tr(E)^2 + mu E:E.
+template <int D>
+ISPH_HD inline Mat<D> svk_stress(const Mat<D>& F, const ElasticMaterial& m, Real* psi = nullptr) {
+  const Mat<D> E = 0.5 * (transpose(F) * F - Mat<D>::identity());
+  const Real trE = trace(E);
+  Mat<D> S = (2 * m.mu) * E;
+  for (int i = 0; i < D; ++i) S(i, i) += m.lambda * trE;
+  if (psi) *psi = 0.5 * m.lambda * trE * trE + m.mu * ddot(E, E);
+  return S;
+}
+
 template <int D>
 struct TlsphView {
   Index n;
@@ -51,8 +63,8 @@ struct TlsphView {
 };
 
 // Deformation gradient (Eq. 36, written with displacements so that F = I exactly at rest),
-// Green-Lagrange strain E = (F^T F - I)/2, St. Venant-Kirchhoff S = lambda tr(E) I + 2 mu E,
-// first Piola-Kirchhoff P = F S (the reference-frame stress of Eq. 42).
+// St. Venant-Kirchhoff stress (svk_stress) and the first Piola-Kirchhoff stress P = F S, the
+// reference-frame stress of Eq. 42.
 template <int D>
 struct TlsphStress {
   TlsphView<D> s;
@@ -67,13 +79,10 @@ struct TlsphStress {
         for (int j = 0; j < D; ++j) F(i, j) += uab[i] * g[j];
     }
     const ElasticMaterial m = s.materials[s.material[a]];
-    const Mat<D> E = 0.5 * (transpose(F) * F - Mat<D>::identity());
-    const Real trE = trace(E);
-    Mat<D> S = (2 * m.mu) * E;
-    for (int i = 0; i < D; ++i) S(i, i) += m.lambda * trE;
+    Real psi = 0;
+    const Mat<D> S = svk_stress(F, m, &psi);
     s.F[a] = F;
     s.PL[a] = (F * S) * s.L[a];
-    Real psi = 0.5 * m.lambda * trE * trE + m.mu * ddot(E, E);
     if (s.hourglass > 0) {
       // hourglass energy density (kappa/2) sum_b w_ab |eps_ab|^2 and moment H_a (see TlsphAcceleration)
       Mat<D> H = Mat<D>::zero();
