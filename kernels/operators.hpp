@@ -41,6 +41,7 @@
 //
 // All functors read neighbours and write only particle i; they are device-safe (ISPH_HD, fixed-size
 // arrays, no std:: containers). Pairs at zero distance (coincident particles) are skipped.
+#include "core/periodic.hpp"
 #include "core/types.hpp"
 #include "kernels/gradient_correction.hpp"
 #include "kernels/smoothing_kernel.hpp"
@@ -55,6 +56,9 @@ struct OperatorView {
   const Index* nbr_offset;  // CSR: neighbours of a are nbr[nbr_offset[a] .. nbr_offset[a+1])
   const Index* nbr;
   SmoothingKernel<D> kernel;
+  Periodicity<D> period = {};  // minimum-image pair vectors on periodic axes
+
+  ISPH_HD Vec<D> r(Index a, Index b) const { return period.delta(x[a], x[b]); }
 };
 
 // L_a = M_a^{-T} (identity when M_a is singular).
@@ -66,7 +70,7 @@ struct GradientCorrection {
     Mat<D> m = Mat<D>::zero();
     for (Index k = v.nbr_offset[a]; k < v.nbr_offset[a + 1]; ++k) {
       const Index b = v.nbr[k];
-      const Vec<D> r_ab = v.x[a] - v.x[b];
+      const Vec<D> r_ab = v.r(a, b);
       const Vec<D> g = v.volume[b] * v.kernel.gradient(r_ab);
       m = m + outer((-1.0) * r_ab, g);
     }
@@ -85,7 +89,7 @@ struct CorrectedGradient {
     Vec<D> s = Vec<D>::zero();
     for (Index k = v.nbr_offset[a]; k < v.nbr_offset[a + 1]; ++k) {
       const Index b = v.nbr[k];
-      s += (v.volume[b] * (f[b] - f[a])) * v.kernel.gradient(v.x[a] - v.x[b]);
+      s += (v.volume[b] * (f[b] - f[a])) * v.kernel.gradient(v.r(a, b));
     }
     grad[a] = L[a] * s;
   }
@@ -102,7 +106,7 @@ struct CorrectedDivergence {
     Mat<D> s = Mat<D>::zero();
     for (Index k = v.nbr_offset[a]; k < v.nbr_offset[a + 1]; ++k) {
       const Index b = v.nbr[k];
-      s = s + outer(u[b] - u[a], v.volume[b] * v.kernel.gradient(v.x[a] - v.x[b]));
+      s = s + outer(u[b] - u[a], v.volume[b] * v.kernel.gradient(v.r(a, b)));
     }
     div[a] = ddot(L[a], s);
   }
@@ -117,7 +121,7 @@ struct PositionDivergence {
     Real s = 0;
     for (Index k = v.nbr_offset[a]; k < v.nbr_offset[a + 1]; ++k) {
       const Index b = v.nbr[k];
-      const Vec<D> r_ab = v.x[a] - v.x[b];
+      const Vec<D> r_ab = v.r(a, b);
       s -= v.volume[b] * dot(r_ab, v.kernel.gradient(r_ab));
     }
     div_r[a] = s;
@@ -215,7 +219,7 @@ struct LaplacianRenormalisation {
 
     for (Index k = v.nbr_offset[a]; k < v.nbr_offset[a + 1]; ++k) {
       const Index b = v.nbr[k];
-      const Vec<D> r_ab = v.x[a] - v.x[b];
+      const Vec<D> r_ab = v.r(a, b);
       const Real rho = sqrt(norm2(r_ab));
       if (!(rho > 0)) continue;
       const Vec<D> e = (1.0 / rho) * r_ab;
@@ -282,7 +286,7 @@ struct RenormalisedLaplacian {
     Real s = 0;
     for (Index k = v.nbr_offset[a]; k < v.nbr_offset[a + 1]; ++k) {
       const Index b = v.nbr[k];
-      const Vec<D> r_ab = v.x[a] - v.x[b];
+      const Vec<D> r_ab = v.r(a, b);
       const Real rho = sqrt(norm2(r_ab));
       if (!(rho > 0)) continue;
       const Real w = laplacian_pair_weight(bh, r_ab, rho, v.volume[b] * v.kernel.gradient(r_ab));

@@ -1,13 +1,16 @@
 #pragma once
 // Cell-linked list neighbour search. Particles are bucketed into cells of size >= the search
 // radius by a stable counting sort; a particle's neighbours are found in the 3^D surrounding
-// cells. The neighbour list is CSR (offset, index), built by two gather loops (count, fill)
-// through the common launcher, so it runs wherever the other particle loops run.
+// cells. On a periodic axis the grid spans exactly one period and the cell block wraps around, with
+// pair vectors taken as minimum images (core/periodic.hpp). The neighbour list is CSR (offset,
+// index), built by two gather loops (count, fill) through the common launcher, so it runs wherever
+// the other particle loops run.
 #include <algorithm>
 #include <stdexcept>
 #include <vector>
 
 #include "core/parallel.hpp"
+#include "core/periodic.hpp"
 #include "core/types.hpp"
 
 namespace isph {
@@ -15,12 +18,12 @@ namespace isph {
 template <int D>
 struct CellGrid {
   Vec<D> origin;
-  Real cell_size = 1;
+  Vec<D> cell_size;
   int dims[D];
   Index cells = 0;
 
   ISPH_HD int coord(const Vec<D>& x, int d) const {
-    int c = static_cast<int>(floor((x[d] - origin[d]) / cell_size));
+    int c = static_cast<int>(floor((x[d] - origin[d]) / cell_size[d]));
     return c < 0 ? 0 : (c >= dims[d] ? dims[d] - 1 : c);
   }
   ISPH_HD Index flat(const int* c) const {
@@ -44,24 +47,32 @@ struct CellListView {
   const Vec<D>* x;
   const int* group;         // optional: only pairs with equal group are neighbours
   Real radius2;
+  Periodicity<D> period;
 
-  // Calls f(j, r_ij) for every j != i with |r_ij| < radius, r_ij = x_i - x_j.
+  // Calls f(j, r_ij) for every j != i with |r_ij| < radius, r_ij = x_i - x_j (minimum image).
   template <class F>
   ISPH_HD void for_each_neighbour(Index i, F&& f) const {
     const Vec<D> xi = x[i];
     int lo[D], hi[D], c[D];
     for (int d = 0; d < D; ++d) {
       const int ci = grid.coord(xi, d);
-      lo[d] = ci > 0 ? ci - 1 : 0;
-      hi[d] = ci + 1 < grid.dims[d] ? ci + 1 : grid.dims[d] - 1;
+      if (period.axis[d]) {  // wraps: dims >= 3 on a periodic axis, so the three cells differ
+        lo[d] = ci - 1;
+        hi[d] = ci + 1;
+      } else {
+        lo[d] = ci > 0 ? ci - 1 : 0;
+        hi[d] = ci + 1 < grid.dims[d] ? ci + 1 : grid.dims[d] - 1;
+      }
       c[d] = lo[d];
     }
     while (true) {
-      const Index cell = grid.flat(c);
+      int wrapped[D];
+      for (int d = 0; d < D; ++d) wrapped[d] = (c[d] + grid.dims[d]) % grid.dims[d];
+      const Index cell = grid.flat(wrapped);
       for (Index k = cell_start[cell]; k < cell_start[cell + 1]; ++k) {
         const Index j = sorted[k];
         if (j == i || (group && group[j] != group[i])) continue;
-        const Vec<D> r = xi - x[j];
+        const Vec<D> r = period.delta(xi, x[j]);
         if (norm2(r) < radius2) f(j, r);
       }
       int d = 0;  // odometer over the 3^D block
@@ -99,11 +110,13 @@ struct FillNeighbours {
 template <int D>
 class CellList {
  public:
-  // Buckets x into cells of edge `radius` (at least) over the particles' bounding box.
-  void build(const std::vector<Vec<D>>& x, Real radius) {
+  // Buckets x into cells of edge `radius` (at least) over the particles' bounding box; on a periodic
+  // axis, over the period (which must hold at least three cells, and every x must lie inside it).
+  void build(const std::vector<Vec<D>>& x, Real radius, const Periodicity<D>& period = {}) {
     if (!(radius > 0)) throw std::invalid_argument("CellList: search radius must be positive");
     x_ = x.data();
     radius_ = radius;
+    period_ = period;
     Vec<D> lo, hi;
     for (int d = 0; d < D; ++d) {
       lo[d] = x.empty() ? 0 : x[0][d];
@@ -115,10 +128,18 @@ class CellList {
         hi[d] = std::max(hi[d], p[d]);
       }
     grid_.origin = lo;
-    grid_.cell_size = radius;
     grid_.cells = 1;
     for (int d = 0; d < D; ++d) {
-      grid_.dims[d] = std::max(1, static_cast<int>((hi[d] - lo[d]) / radius) + 1);
+      if (period.axis[d]) {
+        grid_.origin[d] = period.lo[d];
+        grid_.dims[d] = static_cast<int>(period.length[d] / radius);
+        if (grid_.dims[d] < 3)
+          throw std::invalid_argument("CellList: a periodic length must be at least 3 search radii");
+        grid_.cell_size[d] = period.length[d] / grid_.dims[d];
+      } else {
+        grid_.cell_size[d] = radius;
+        grid_.dims[d] = std::max(1, static_cast<int>((hi[d] - lo[d]) / radius) + 1);
+      }
       grid_.cells *= grid_.dims[d];
     }
     cell_start_.assign(static_cast<std::size_t>(grid_.cells) + 1, 0);
@@ -137,11 +158,12 @@ class CellList {
   const std::vector<Index>& order() const { return sorted_; }
 
   CellListView<D> view(const int* group = nullptr) const {
-    return {grid_, cell_start_.data(), sorted_.data(), x_, group, radius_ * radius_};
+    return {grid_, cell_start_.data(), sorted_.data(), x_, group, radius_ * radius_, period_};
   }
 
  private:
   CellGrid<D> grid_;
+  Periodicity<D> period_;
   std::vector<Index> cell_start_;
   std::vector<Index> sorted_;
   const Vec<D>* x_ = nullptr;
@@ -155,12 +177,9 @@ struct NeighbourList {
   Index pairs() const { return static_cast<Index>(index.size()); }
 };
 
-// Builds the CSR list of all pairs closer than `radius` (and in the same group, if given).
+// The CSR list of all pairs of a built cell list (and in the same group, if given).
 template <int D>
-NeighbourList build_neighbour_list(const std::vector<Vec<D>>& x, Real radius, const int* group = nullptr) {
-  CellList<D> cells;
-  cells.build(x, radius);
-  const Index n = static_cast<Index>(x.size());
+NeighbourList neighbour_list(const CellList<D>& cells, Index n, const int* group = nullptr) {
   NeighbourList list;
   list.offset.assign(static_cast<std::size_t>(n) + 1, 0);
   const Exec host{};
@@ -169,6 +188,16 @@ NeighbourList build_neighbour_list(const std::vector<Vec<D>>& x, Real radius, co
   list.index.resize(static_cast<std::size_t>(list.offset[n]));
   parallel_for(host, n, FillNeighbours<D>{cells.view(group), list.offset.data(), list.index.data()});
   return list;
+}
+
+// Builds the CSR list of all pairs closer than `radius` (and in the same group, if given; minimum
+// image on periodic axes).
+template <int D>
+NeighbourList build_neighbour_list(const std::vector<Vec<D>>& x, Real radius, const int* group = nullptr,
+                                   const Periodicity<D>& period = {}) {
+  CellList<D> cells;
+  cells.build(x, radius, period);
+  return neighbour_list(cells, static_cast<Index>(x.size()), group);
 }
 
 }  // namespace isph

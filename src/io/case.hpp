@@ -22,13 +22,16 @@ struct Shape {
 
 enum class ParticleKind : int { fluid = 0, wall = 1, structure = 2 };
 
+// A material. "saint_venant_kirchhoff" (structures) needs youngs_modulus (or bulk_modulus) and
+// poisson_ratio; "newtonian" (fluids) needs viscosity and takes no elastic keys.
 struct MaterialSpec {
   std::string name;
-  std::string model = "saint_venant_kirchhoff";  // only model for structures today
+  std::string model = "saint_venant_kirchhoff";  // saint_venant_kirchhoff | newtonian
   double density = 0.0;                           // [kg/m^3], > 0
   double youngs_modulus = 0.0;                    // [Pa], > 0 (or derived from bulk_modulus)
   double poisson_ratio = 0.0;                     // in (-1, 0.5)
   std::string plane = "strain";                   // 2D only: "strain" | "stress"
+  double viscosity = 0.0;                         // newtonian: kinematic viscosity [m^2/s], > 0
 };
 
 // Prescribed initial velocity of a body.
@@ -58,6 +61,10 @@ struct BodySpec {
   std::vector<Shape> clamps;                 // particles of this body inside any clamp are fixed
   std::array<double, 3> lattice_origin{};    // lattice points at origin + (i + 1/2) dx
   InitialVelocitySpec initial_velocity;
+  // Walls only: prescribed motion. "none" (fixed) or "constant_velocity" (the wall particles move
+  // with `velocity`, e.g. the moving plate of Couette flow).
+  std::string motion = "none";               // none | constant_velocity
+  std::array<double, 3> velocity{};          // constant_velocity [m/s]
 };
 
 // An applied load. "edge" and "point": a total force shared equally by the body's particles inside
@@ -72,8 +79,14 @@ struct LoadSpec {
   double ramp_time = 0.0;                    // [s]
 };
 
-// A probe. "displacement" follows the structure particle nearest `point` in the reference
-// configuration and reports u at `point` (fields ux, uy[, uz]).
+// A probe.
+//  "displacement": follows the structure particle nearest `point` in the reference configuration
+//                  and reports u at `point` (fields ux, uy[, uz]).
+//  "pressure":     fixed point; kernel-normalised (Shepard) interpolation of the fluid and wall
+//                  pressure at `point` (field p).
+//  "velocity":     fixed point; Shepard interpolation of the fluid velocity (fields ux, uy[, uz]).
+//  "front":        the largest x of the fluid particles below the height point[1] (field x): the surge
+//                  front of a dam break when point[1] is a little above the floor.
 struct ProbeSpec {
   std::string name;
   std::string type = "displacement";
@@ -93,6 +106,47 @@ struct StructureSpec {
   double hourglass = 5.0;                    // hourglass control coefficient alpha (0 = off); docs/VALIDATION.md
 };
 
+// The PPE linear solver (poisson/linear_solver.hpp) and what to do when it fails.
+struct PpeSolverSpec {
+  std::string backend = "eigen";             // eigen | hypre
+  std::string method = "bicgstab";           // bicgstab | gmres
+  std::string preconditioner = "ilu";        // eigen: jacobi | ilu | none; hypre: boomeramg | jacobi | none
+  double tolerance = 1e-8;                   // relative residual
+  int max_iterations = 1000;
+  std::string fallback = "none";             // none | eigen | hypre: a second backend tried after a failed solve
+};
+
+struct ShiftingSpec {
+  std::string type = "ops";                  // none | xu (Xu/Lind, Eqs. 21-23) | ops (+ Eqs. 24-26 at the surface)
+  double coefficient = 0.05;                 // C of Eq. 21, in [0.01, 0.1]
+  double max_fraction = 0.2;                 // cap on |dr| as a fraction of h (Lind et al. 2012)
+  bool taylor_correction = true;             // Eqs. 20, 31-32
+};
+
+// The ISPH fluid stage (seed 001 §2.1).
+struct FluidSpec {
+  double courant = 0.1;                      // Eq. 49: dt = courant h / U
+  double viscous_number = 0.125;             // dt <= viscous_number h^2 / nu
+  double reference_velocity = 0.0;           // floor on U in Eq. 49 [m/s]; 0: sqrt(2 |g| H_fluid), or the fastest wall
+  double max_dt = 0.0;                       // [s]; 0: no cap
+  std::string turbulence = "none";           // none | sps (Eq. 10)
+  double smagorinsky = 0.1;                  // c_s of Eq. 10
+  bool free_surface = true;                  // detect the free surface (Dirichlet p = 0, Eq. 17)
+  double surface_threshold = 0.0;            // div r below it: surface; 0: 1.4 (2D), 2.4 (3D)
+  double surface_full = 0.0;                 // div r above it: Skillen alpha = 1; 0: 1.6 (2D), 2.6 (3D)
+  std::string surface_pressure = "extrapolated";  // zero (p = 0 at surface particles) | extrapolated (p = 0 dx/2 beyond)
+  ShiftingSpec shifting;
+  PpeSolverSpec ppe;
+};
+
+// Periodic axes: particles leaving [lo, hi) re-enter on the other side and neighbours are found
+// across the boundary. Unused axes have lo == hi == 0.
+struct PeriodicSpec {
+  std::array<bool, 3> axis{false, false, false};
+  std::array<double, 3> lo{};
+  std::array<double, 3> hi{};
+};
+
 struct OutputSpec {
   double interval = 0.0;                     // probes and energies every `interval` [s] (0: every 100 steps)
   double snapshot_interval = 0.0;            // HDF5 snapshot every ... [s] (0: first and last only)
@@ -100,8 +154,8 @@ struct OutputSpec {
 };
 
 struct StagesSpec {
-  bool structure = true;
-  bool fluid = false;
+  bool structure = true;                     // run TLSPH (needs structure bodies)
+  bool fluid = false;                        // run ISPH (needs fluid bodies)
 };
 
 struct CaseSpec {
@@ -113,6 +167,8 @@ struct CaseSpec {
   std::array<double, 3> gravity{};
   KernelSpec kernel;
   StructureSpec structure;
+  FluidSpec fluid;
+  PeriodicSpec periodic;
   OutputSpec output;
   StagesSpec stages;
   std::vector<MaterialSpec> materials;

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -278,6 +279,26 @@ bool read_choice(Table& t, const std::string& key, std::string& out, const Choic
   return true;
 }
 
+// A key that is not allowed here (given the values read before it): reported, and not read.
+void reject(Table& t, const std::string& key, const std::string& reason) {
+  if (!t.has(key)) return;
+  t.ignore(key);
+  t.problem(key, reason);
+}
+
+// An integer > 0 that fits an int.
+void read_positive_int(Table& t, const std::string& key, int& out) {
+  std::int64_t value = out;
+  if (!t.read(key, value)) return;
+  if (value <= 0)
+    t.problem(key, "must be > 0 (got " + std::to_string(value) + ")");
+  else if (value > std::numeric_limits<int>::max())
+    t.problem(key, "must be <= " + std::to_string(std::numeric_limits<int>::max()) + " (got " +
+                       std::to_string(value) + ")");
+  else
+    out = static_cast<int>(value);
+}
+
 // A direction: any non-zero vector, stored normalized.
 void read_direction(Table& t, const std::string& key, Vec3& out) {
   Vec3 d{};
@@ -355,7 +376,92 @@ void read_fields(Table& t, OutputSpec& o) {
 
 void read_fields(Table& t, StagesSpec& s) {
   t.read("structure", s.structure);
-  if (t.read("fluid", s.fluid) && s.fluid) t.problem("fluid", "the fluid stage is not available yet");
+  t.read("fluid", s.fluid);
+}
+
+void read_fields(Table& t, ShiftingSpec& s) {
+  read_choice(t, "type", s.type, {"none", "xu", "ops"});
+  if (read_positive(t, "coefficient", s.coefficient) && s.coefficient > 1.0)
+    t.problem("coefficient", "must be <= 1 (got " + show(s.coefficient) + ")");
+  read_positive(t, "max_fraction", s.max_fraction);
+  t.read("taylor_correction", s.taylor_correction);
+}
+
+// The preconditioners of each backend (poisson/linear_solver.hpp); the first is the default.
+Choices preconditioners(const std::string& backend) {
+  if (backend == "hypre") return {"boomeramg", "jacobi", "none"};
+  return {"ilu", "jacobi", "none"};
+}
+
+void read_fields(Table& t, PpeSolverSpec& p) {
+  const bool backend_ok = read_choice(t, "backend", p.backend, {"eigen", "hypre"});
+  read_choice(t, "method", p.method, {"bicgstab", "gmres"});
+  if (!t.has("preconditioner")) p.preconditioner = preconditioners(p.backend).front();
+  if (read_choice(t, "preconditioner", p.preconditioner, {"jacobi", "ilu", "none", "boomeramg"}) &&
+      backend_ok && t.has("preconditioner")) {
+    const Choices allowed = preconditioners(p.backend);
+    if (std::find(allowed.begin(), allowed.end(), p.preconditioner) == allowed.end())
+      t.problem("preconditioner", quote(p.preconditioner) + " is not available with backend = " +
+                                      quote(p.backend) + "; " + one_of(allowed));
+  }
+  if (t.read("tolerance", p.tolerance) && !(p.tolerance > 0.0 && p.tolerance < 1.0))
+    t.problem("tolerance", "must be > 0 and < 1 (got " + show(p.tolerance) + ")");
+  read_positive_int(t, "max_iterations", p.max_iterations);
+  if (read_choice(t, "fallback", p.fallback, {"none", "eigen", "hypre"}) && backend_ok &&
+      p.fallback == p.backend)
+    t.problem("fallback", "must differ from backend (both " + quote(p.backend) + "), or be \"none\"");
+}
+
+// The default surface thresholds on div r (case.hpp: FluidSpec).
+double default_surface_threshold(int dimension) { return dimension == 2 ? 1.4 : 2.4; }
+double default_surface_full(int dimension) { return dimension == 2 ? 1.6 : 2.6; }
+
+void read_fields(Table& t, FluidSpec& f) {
+  read_positive(t, "courant", f.courant);
+  read_positive(t, "viscous_number", f.viscous_number);
+  read_non_negative(t, "reference_velocity", f.reference_velocity);
+  read_non_negative(t, "max_dt", f.max_dt);
+  read_choice(t, "turbulence", f.turbulence, {"none", "sps"});
+  read_positive(t, "smagorinsky", f.smagorinsky);
+  t.read("free_surface", f.free_surface);
+  read_non_negative(t, "surface_threshold", f.surface_threshold);
+  read_non_negative(t, "surface_full", f.surface_full);
+  read_choice(t, "surface_pressure", f.surface_pressure, {"extrapolated", "zero"});
+  // Judged with the defaults in place of zeros, so that a threshold above the default full value is caught.
+  const int d = t.ctx().dimension;
+  const double threshold = f.surface_threshold > 0.0 ? f.surface_threshold : default_surface_threshold(d);
+  const double full = f.surface_full > 0.0 ? f.surface_full : default_surface_full(d);
+  if (f.surface_threshold >= 0.0 && f.surface_full >= 0.0 && !(full > threshold))
+    t.problem("surface_full", "must be > surface_threshold (got " + show(full) +
+                                  (f.surface_full > 0.0 ? "" : " (default)") + " <= " + show(threshold) +
+                                  (f.surface_threshold > 0.0 ? "" : " (default)") + ")");
+  t.read("shifting", f.shifting);
+  t.read("ppe", f.ppe);
+}
+
+// Each axis: [lo, hi] with hi > lo.
+void read_fields(Table& t, PeriodicSpec& p) {
+  static const char* const kAxes[] = {"x", "y", "z"};
+  for (int k = 0; k < 3; ++k) {
+    const std::string key = kAxes[k];
+    if (k >= t.ctx().dimension) {
+      reject(t, key, "only in 3D (dimension = " + std::to_string(t.ctx().dimension) + ")");
+      continue;
+    }
+    std::vector<double> range;
+    if (!t.read(key, range)) continue;
+    if (range.size() != 2) {
+      t.problem(key, "expected 2 numbers [lo, hi], got " + std::to_string(range.size()));
+      continue;
+    }
+    if (!(range[1] > range[0])) {
+      t.problem(key, "hi must be > lo (got [" + show(range[0]) + ", " + show(range[1]) + "])");
+      continue;
+    }
+    p.axis[k] = true;
+    p.lo[k] = range[0];
+    p.hi[k] = range[1];
+  }
 }
 
 // Poisson's ratio of a stable isotropic solid lies in (-1, 0.5); at 0.5 (incompressible) the bulk
@@ -388,8 +494,19 @@ void read_stiffness(Table& t, MaterialSpec& m) {
 
 void read_fields(Table& t, MaterialSpec& m) {
   t.read("name", m.name, Need::required);
-  read_choice(t, "model", m.model, {"saint_venant_kirchhoff"});
+  if (!read_choice(t, "model", m.model, {"saint_venant_kirchhoff", "newtonian"})) {
+    m.model.clear();  // unknown: the other keys cannot be judged, nor the bodies that use it
+    t.ignore_rest();
+    return;
+  }
   read_positive(t, "density", m.density, Need::required);
+  if (m.model == "newtonian") {
+    read_positive(t, "viscosity", m.viscosity, Need::required);
+    for (const char* key : {"youngs_modulus", "bulk_modulus", "poisson_ratio", "plane"})
+      reject(t, key, "only for saint_venant_kirchhoff (model = \"newtonian\")");
+    return;
+  }
+  reject(t, "viscosity", "only for newtonian (model = \"saint_venant_kirchhoff\")");
   read_poisson_ratio(t, m.poisson_ratio);
   read_stiffness(t, m);
   if (t.ctx().dimension == 2) {
@@ -444,13 +561,37 @@ void read_fields(Table& t, BodySpec& b) {
   t.read("name", b.name, Need::required);
   std::string kind = kind_name(b.kind);
   if (read_choice(t, "kind", kind, {"fluid", "wall", "structure"})) b.kind = kind_from_name(kind);
-  // Only structures need an elastic material; walls and fluids may name one.
-  t.read("material", b.material, b.kind == ParticleKind::structure ? Need::required : Need::optional);
+  const bool wall = b.kind == ParticleKind::wall;
+  const std::string kind_is = "kind = " + quote(kind_name(b.kind));
+  // Structures need an elastic material and fluids a newtonian one (check_lists); walls may name one.
+  t.read("material", b.material, wall ? Need::optional : Need::required);
   t.read("shape", b.shape, Need::required);
-  t.read("clamps", b.clamps);
+  if (b.kind == ParticleKind::structure)
+    t.read("clamps", b.clamps);
+  else
+    reject(t, "clamps", "only for kind = \"structure\" (" + kind_is + ")");
   b.lattice_origin = default_lattice_origin(b.shape, t.ctx().dimension);
   t.read("lattice_origin", b.lattice_origin);
-  t.read("initial_velocity", b.initial_velocity);
+  if (wall) {
+    reject(t, "initial_velocity", "not for kind = \"wall\" (use motion)");
+  } else if (t.read("initial_velocity", b.initial_velocity) && b.kind == ParticleKind::fluid &&
+             b.initial_velocity.type == "cantilever_mode") {
+    t.problem("initial_velocity",
+              "type \"cantilever_mode\" is only for kind = \"structure\"; "
+              "a fluid takes \"none\" or \"uniform\"");
+  }
+  if (!wall) {
+    reject(t, "motion", "only for kind = \"wall\" (" + kind_is + ")");
+    reject(t, "velocity",
+           "only for kind = \"wall\" with motion = \"constant_velocity\" (" + kind_is +
+               "; see initial_velocity)");
+  } else if (!read_choice(t, "motion", b.motion, {"none", "constant_velocity"})) {
+    t.ignore("velocity");  // cannot be judged
+  } else if (b.motion == "constant_velocity") {
+    t.read("velocity", b.velocity, Need::required);
+  } else {
+    reject(t, "velocity", "only with motion = \"constant_velocity\"");
+  }
 }
 
 void read_fields(Table& t, LoadSpec& l) {
@@ -483,7 +624,7 @@ bool is_identifier(const std::string& s) {
 void read_fields(Table& t, ProbeSpec& p) {
   if (t.read("name", p.name, Need::required) && !is_identifier(p.name))
     t.problem("name", "must match [A-Za-z0-9_]+ (got " + quote(p.name) + ")");
-  read_choice(t, "type", p.type, {"displacement"});
+  read_choice(t, "type", p.type, {"displacement", "pressure", "velocity", "front"});
   t.read("point", p.point, Need::required);
 }
 
@@ -505,6 +646,8 @@ void read_fields(Table& t, CaseSpec& c) {
   t.read("gravity", c.gravity);
   t.read("kernel", c.kernel);
   t.read("structure", c.structure);
+  t.read("fluid", c.fluid);
+  t.read("periodic", c.periodic);
   t.read("output", c.output);
   t.read("stages", c.stages);
   t.read("materials", c.materials);
@@ -543,15 +686,67 @@ void check_reference(const std::string& name, const std::vector<Spec>& items, co
                         (known.empty() ? " (none defined)" : " (known: " + join(known, ", ") + ")"));
 }
 
-void check_lists(const CaseSpec& c, Context& ctx) {
+// A structure needs an elastic material, a fluid a newtonian one.
+void check_material_model(const BodySpec& b, const std::vector<MaterialSpec>& materials,
+                          const std::string& path, Context& ctx) {
+  if (b.kind == ParticleKind::wall) return;
+  const std::string needed = b.kind == ParticleKind::fluid ? "newtonian" : "saint_venant_kirchhoff";
+  for (const auto& m : materials) {
+    if (m.name != b.material) continue;
+    if (!m.model.empty() && m.model != needed)  // empty: an unknown model, reported already
+      ctx.problem(path, "material " + quote(m.name) + " has model = " + quote(m.model) + ", but a " +
+                            kind_name(b.kind) + " body needs model = " + quote(needed));
+    return;  // a duplicate name is reported already
+  }
+}
+
+// The first body of `kind` (its path and name, for messages), or "" if there is none.
+std::string first_body(const std::vector<BodySpec>& bodies, ParticleKind kind) {
+  for (std::size_t i = 0; i < bodies.size(); ++i)
+    if (bodies[i].kind == kind) return index_path("bodies", i) + " " + quote(bodies[i].name);
+  return "";
+}
+
+// Which stages run follows from the bodies. A case without structures that runs the fluid stage
+// does not run the structure stage, whatever stages.structure says (its default is true).
+void check_stages(CaseSpec& c, Context& ctx) {
+  const std::string fluid = first_body(c.bodies, ParticleKind::fluid);
+  const std::string structure = first_body(c.bodies, ParticleKind::structure);
+  if (structure.empty() && c.stages.fluid) c.stages.structure = false;
+  if (c.stages.fluid && fluid.empty())
+    ctx.problem("stages.fluid", "needs at least one body of kind = \"fluid\"");
+  if (!c.stages.fluid && !fluid.empty())
+    ctx.problem("stages.fluid", "the case has fluid bodies (" + fluid + "); set stages.fluid = true");
+  if (c.stages.structure && structure.empty())
+    ctx.problem("stages.structure",
+                "needs at least one body of kind = \"structure\" (or set stages.fluid = true "
+                "for a fluid case)");
+  if (!c.stages.structure && !structure.empty())
+    ctx.problem("stages.structure",
+                "the case has structure bodies (" + structure + "); set stages.structure = true");
+  if (!c.stages.structure && !c.stages.fluid)
+    ctx.problem("stages", "nothing to run: set stages.structure or stages.fluid to true");
+  for (std::size_t i = 0; i < c.probes.size(); ++i) {
+    const std::string& type = c.probes[i].type;
+    const bool structural = type == "displacement";
+    if (structural ? c.stages.structure : c.stages.fluid) continue;
+    ctx.problem(index_path("probes", i) + ".type",
+                quote(type) + " probes need stages." + (structural ? "structure" : "fluid") + " = true");
+  }
+}
+
+void check_lists(CaseSpec& c, Context& ctx) {
   check_unique_names(c.materials, "materials", ctx);
   check_unique_names(c.bodies, "bodies", ctx);
   check_unique_names(c.probes, "probes", ctx);
-  for (std::size_t i = 0; i < c.bodies.size(); ++i)
-    check_reference(c.bodies[i].material, c.materials, "material", index_path("bodies", i) + ".material",
-                    ctx);
+  for (std::size_t i = 0; i < c.bodies.size(); ++i) {
+    const std::string path = index_path("bodies", i) + ".material";
+    check_reference(c.bodies[i].material, c.materials, "material", path, ctx);
+    check_material_model(c.bodies[i], c.materials, path, ctx);
+  }
   for (std::size_t i = 0; i < c.loads.size(); ++i)
     check_reference(c.loads[i].body, c.bodies, "body", index_path("loads", i) + ".body", ctx);
+  check_stages(c, ctx);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -663,8 +858,12 @@ void write_material(std::ostream& out, const MaterialSpec& m, int dimension) {
   out << "\n[[materials]]\n"
       << "name = " << quote(m.name) << "\n"
       << "model = " << quote(m.model) << "\n"
-      << "density = " << toml_float(m.density) << "\n"
-      << "youngs_modulus = " << toml_float(m.youngs_modulus) << "\n"
+      << "density = " << toml_float(m.density) << "\n";
+  if (m.model == "newtonian") {
+    out << "viscosity = " << toml_float(m.viscosity) << "\n";
+    return;
+  }
+  out << "youngs_modulus = " << toml_float(m.youngs_modulus) << "\n"
       << "poisson_ratio = " << toml_float(m.poisson_ratio) << "\n";
   if (dimension == 2) out << "plane = " << quote(m.plane) << "\n";
 }
@@ -676,10 +875,15 @@ void write_body(std::ostream& out, const BodySpec& b, int dimension) {
       << "name = " << quote(b.name) << "\n"
       << "kind = " << quote(kind_name(b.kind)) << "\n";
   if (!b.material.empty()) out << "material = " << quote(b.material) << "\n";
-  out << "shape = " << toml_shape(b.shape, dimension) << "\n"
-      << "clamps = [" << join(clamps, ", ") << "]\n"
-      << "lattice_origin = " << toml_vector(b.lattice_origin, dimension) << "\n"
-      << "initial_velocity = " << toml_velocity(b.initial_velocity, dimension) << "\n";
+  out << "shape = " << toml_shape(b.shape, dimension) << "\n";
+  if (b.kind == ParticleKind::structure) out << "clamps = [" << join(clamps, ", ") << "]\n";
+  out << "lattice_origin = " << toml_vector(b.lattice_origin, dimension) << "\n";
+  if (b.kind == ParticleKind::wall) {
+    out << "motion = " << quote(b.motion) << "\n";
+    if (b.motion == "constant_velocity") out << "velocity = " << toml_vector(b.velocity, dimension) << "\n";
+  } else {
+    out << "initial_velocity = " << toml_velocity(b.initial_velocity, dimension) << "\n";
+  }
 }
 
 void write_load(std::ostream& out, const LoadSpec& l, int dimension) {
@@ -702,6 +906,42 @@ void write_probe(std::ostream& out, const ProbeSpec& p, int dimension) {
       << "point = " << toml_vector(p.point, dimension) << "\n";
 }
 
+void write_fluid(std::ostream& out, const FluidSpec& f) {
+  out << "\n[fluid]\n"
+      << "courant = " << toml_float(f.courant) << "\n"
+      << "viscous_number = " << toml_float(f.viscous_number) << "\n"
+      << "reference_velocity = " << toml_float(f.reference_velocity) << "\n"
+      << "max_dt = " << toml_float(f.max_dt) << "\n"
+      << "turbulence = " << quote(f.turbulence) << "\n"
+      << "smagorinsky = " << toml_float(f.smagorinsky) << "\n"
+      << "free_surface = " << toml_bool(f.free_surface) << "\n"
+      << "surface_threshold = " << toml_float(f.surface_threshold) << "\n"
+      << "surface_full = " << toml_float(f.surface_full) << "\n"
+      << "surface_pressure = " << quote(f.surface_pressure) << "\n"
+      << "\n[fluid.shifting]\n"
+      << "type = " << quote(f.shifting.type) << "\n"
+      << "coefficient = " << toml_float(f.shifting.coefficient) << "\n"
+      << "max_fraction = " << toml_float(f.shifting.max_fraction) << "\n"
+      << "taylor_correction = " << toml_bool(f.shifting.taylor_correction) << "\n"
+      << "\n[fluid.ppe]\n"
+      << "backend = " << quote(f.ppe.backend) << "\n"
+      << "method = " << quote(f.ppe.method) << "\n"
+      << "preconditioner = " << quote(f.ppe.preconditioner) << "\n"
+      << "tolerance = " << toml_float(f.ppe.tolerance) << "\n"
+      << "max_iterations = " << f.ppe.max_iterations << "\n"
+      << "fallback = " << quote(f.ppe.fallback) << "\n";
+}
+
+// Only the periodic axes; no table when there are none.
+void write_periodic(std::ostream& out, const PeriodicSpec& p, int dimension) {
+  static const char* const kAxes[] = {"x", "y", "z"};
+  if (std::none_of(p.axis.begin(), p.axis.begin() + dimension, [](bool periodic) { return periodic; }))
+    return;
+  out << "\n[periodic]\n";
+  for (int k = 0; k < dimension; ++k)
+    if (p.axis[k]) out << kAxes[k] << " = [" << toml_float(p.lo[k]) << ", " << toml_float(p.hi[k]) << "]\n";
+}
+
 std::string resolved_toml(const CaseSpec& c) {
   const int d = c.dimension;
   std::ostringstream out;
@@ -719,8 +959,10 @@ std::string resolved_toml(const CaseSpec& c) {
       << "integrator = " << quote(c.structure.integrator) << "\n"
       << "courant = " << toml_float(c.structure.courant) << "\n"
       << "damping = " << toml_float(c.structure.damping) << "\n"
-      << "hourglass = " << toml_float(c.structure.hourglass) << "\n"
-      << "\n[output]\n"
+      << "hourglass = " << toml_float(c.structure.hourglass) << "\n";
+  write_fluid(out, c.fluid);
+  write_periodic(out, c.periodic, d);
+  out << "\n[output]\n"
       << "interval = " << toml_float(c.output.interval) << "\n"
       << "snapshot_interval = " << toml_float(c.output.snapshot_interval) << "\n"
       << "snapshots = " << toml_bool(c.output.snapshots) << "\n"

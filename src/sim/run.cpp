@@ -6,10 +6,11 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <map>
+#include <limits>
 #include <stdexcept>
 
 #include "io/output.hpp"
+#include "sim/phase_timer.hpp"
 #include "sim/scene.hpp"
 
 namespace isph {
@@ -20,28 +21,7 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// Accumulates wall time per phase for summary.json.
-class PhaseTimer {
- public:
-  template <class F>
-  void time(const std::string& phase, F&& f) {
-    const auto t0 = Clock::now();
-    f();
-    seconds_[phase] += seconds_since(t0);
-  }
-  JsonObject json() const {
-    JsonObject o;
-    for (const auto& [k, v] : seconds_) o.set(k, v);
-    return o;
-  }
-  double get(const std::string& phase) const {
-    auto it = seconds_.find(phase);
-    return it == seconds_.end() ? 0.0 : it->second;
-  }
-
- private:
-  std::map<std::string, double> seconds_;
-};
+const char* const kComponents[3] = {"ux", "uy", "uz"};
 
 template <int D>
 std::array<double, 3> to_array(const Vec<D>& v) {
@@ -50,9 +30,136 @@ std::array<double, 3> to_array(const Vec<D>& v) {
   return a;
 }
 
+template <int D>
+void put_vector(SnapshotField& field, Index k, const Vec<D>& v) {
+  for (int d = 0; d < D; ++d) field.data[3 * k + d] = v[d];
+}
+
+std::string format_duration(double s) {
+  char buf[64];
+  if (s < 90)
+    std::snprintf(buf, sizeof buf, "%.0fs", s);
+  else if (s < 5400)
+    std::snprintf(buf, sizeof buf, "%.1fmin", s / 60);
+  else
+    std::snprintf(buf, sizeof buf, "%.1fh", s / 3600);
+  return buf;
+}
+
+// What every run shares: the output files, their schedule, the progress line and summary.json.
+// A time loop calls record()/snapshot() through due_*() and finish() once at the end.
+class RunFrame {
+ public:
+  RunFrame(const CaseSpec& spec, const RunOptions& opt, std::vector<std::string> probe_columns, int dimension)
+      : spec_(spec), opt_(opt), wall0_(Clock::now()), last_progress_(wall0_) {
+    result.out_dir = opt.out_dir.empty() ? "out/" + spec.name : opt.out_dir;
+    std::filesystem::create_directories(result.out_dir);
+    write_file_atomically(result.out_dir + "/case.resolved.toml", spec.resolved_toml);
+    probe_columns.insert(probe_columns.begin(), "time");
+    probes = CsvTable(result.out_dir + "/probes.csv", probe_columns);
+    energy = CsvTable(result.out_dir + "/energy.csv",
+                      {"time", "fluid_kinetic", "fluid_potential", "structure_kinetic", "structure_potential",
+                       "structure_strain", "boundary_work", "total"});
+    snapshots = SnapshotWriter(result.out_dir, dimension);
+    write_snapshots_ = spec.output.snapshots && SnapshotWriter::available();
+    snap_interval_ = spec.output.snapshot_interval;
+    next_snap_ = snap_interval_ > 0 ? snap_interval_ : spec.end_time * 2;
+    result.status = "completed";
+    result.message = "reached end_time";
+  }
+
+  // Output interval: the case's, else every `steps` steps of dt.
+  void set_output_interval(double dt, int steps) {
+    out_interval_ = spec_.output.interval > 0 ? spec_.output.interval : steps * dt;
+    next_out_ = out_interval_;
+  }
+  bool due_record(double t, bool last) {
+    if (!(t >= next_out_ - 1e-12 * spec_.end_time) && !last) return false;
+    while (next_out_ <= t + 1e-12 * spec_.end_time) next_out_ += out_interval_;
+    return true;
+  }
+  bool due_snapshot(double t) {
+    if (!write_snapshots_ || !(t >= next_snap_ - 1e-12 * spec_.end_time)) return false;
+    while (next_snap_ <= t + 1e-12 * spec_.end_time) next_snap_ += snap_interval_;
+    return true;
+  }
+  bool writes_snapshots() const { return write_snapshots_; }
+  // The final snapshot, unless the schedule has just written one at end_time.
+  bool final_snapshot_due() const {
+    return write_snapshots_ && !(snap_interval_ > 0 && std::fabs(std::fmod(spec_.end_time, snap_interval_)) < 1e-12);
+  }
+  void flush() {
+    probes.flush();
+    energy.flush();
+  }
+
+  void progress(double t, long long steps, double stepping_seconds) {
+    if (!opt_.progress || seconds_since(last_progress_) < 2.0) return;
+    last_progress_ = Clock::now();
+    const double elapsed = seconds_since(wall0_);
+    std::fprintf(stderr, "[%s] t = %.4g / %.4g s (%.0f%%)  %.0f steps/s  ETA %s\n", spec_.name.c_str(), t,
+                 spec_.end_time, 100.0 * t / spec_.end_time, steps / std::max(1e-9, stepping_seconds),
+                 format_duration(elapsed / (t / spec_.end_time) - elapsed).c_str());
+  }
+
+  void diverge(const std::string& message) {
+    result.status = "diverged";
+    result.message = message;
+  }
+
+  // Writes summary.json and the closing line.
+  void finish(int dimension, const JsonObject& particles, long long fluid_steps, long long structure_steps,
+              double simulated_time, const PhaseTimer& timer, const JsonObject& ppe, const JsonObject& performance) {
+    flush();
+    const double wall = seconds_since(wall0_);
+    JsonObject steps, phases;
+    steps.set("fluid", fluid_steps).set("structure", structure_steps);
+    for (const auto& [k, v] : timer.phases()) phases.set(k, v);
+    JsonObject summary;
+    summary.set("case", spec_.name)
+        .set("dimension", dimension)
+        .set("device", device_name(opt_.device))
+        .set("particles", particles)
+        .set("steps", steps)
+        .set("simulated_time", simulated_time)
+        .set("wall_time_s", wall)
+        .set("phases", phases)
+        .set("ppe", ppe)
+        .set("performance", performance)
+        .set("status", result.status)
+        .set("message", result.message);
+    write_file_atomically(result.out_dir + "/summary.json", summary.dump() + "\n");
+    if (opt_.progress)
+      std::fprintf(stderr, "[%s] %s: %s; %lld steps in %.2f s wall; output in %s\n", spec_.name.c_str(),
+                   result.status.c_str(), result.message.c_str(), std::max(fluid_steps, structure_steps), wall,
+                   result.out_dir.c_str());
+  }
+
+  RunResult result;
+  CsvTable probes, energy;
+  SnapshotWriter snapshots;
+
+ private:
+  const CaseSpec& spec_;
+  const RunOptions& opt_;
+  Clock::time_point wall0_, last_progress_;
+  bool write_snapshots_ = false;
+  double out_interval_ = 0, next_out_ = 0, snap_interval_ = 0, next_snap_ = 0;
+};
+
+JsonObject particle_counts(long long fluid, long long wall, long long structure) {
+  JsonObject o;
+  o.set("fluid", fluid).set("wall", wall).set("structure", structure);
+  return o;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Structure only (TLSPH)
+// ------------------------------------------------------------------------------------------------
+
 // Writes the fields of the structure particles, in stable-id order.
 template <int D>
-void write_snapshot(SnapshotWriter& writer, double t, TlsphSolver<D>& solver, const Scene<D>& scene) {
+void write_structure_snapshot(SnapshotWriter& writer, double t, TlsphSolver<D>& solver, const Scene<D>& scene) {
   const Index n = solver.size();
   std::vector<Index> slot(n);
   for (Index a = 0; a < n; ++a) slot[scene.structure_id[a]] = a;
@@ -67,11 +174,9 @@ void write_snapshot(SnapshotWriter& writer, double t, TlsphSolver<D>& solver, co
   for (Index k = 0; k < n; ++k) {
     const Index a = slot[k];
     pos[k] = to_array(solver.position()[a]);
-    for (int d = 0; d < D; ++d) {
-      disp.data[3 * k + d] = solver.position()[a][d] - solver.reference()[a][d];
-      vel.data[3 * k + d] = solver.velocity()[a][d];
-      ref.data[3 * k + d] = solver.reference()[a][d];
-    }
+    put_vector(disp, k, solver.position()[a] - solver.reference()[a]);
+    put_vector(vel, k, solver.velocity()[a]);
+    put_vector(ref, k, solver.reference()[a]);
     const Mat<D> sigma = solver.cauchy_stress(a);
     sxx.data[k] = sigma(0, 0);
     syy.data[k] = sigma(1, 1);
@@ -88,57 +193,26 @@ template <int D>
 Index find_divergence(const TlsphSolver<D>& solver, Real limit) {
   for (Index a = 0; a < solver.size(); ++a) {
     const Real u2 = norm2(solver.position()[a] - solver.reference()[a]);
-    if (!std::isfinite(u2) || !std::isfinite(norm2(solver.velocity()[a])) || u2 > limit * limit)
-      return a;
+    if (!std::isfinite(u2) || !std::isfinite(norm2(solver.velocity()[a])) || u2 > limit * limit) return a;
   }
   return -1;
 }
 
-std::string format_duration(double s) {
-  char buf[64];
-  if (s < 90)
-    std::snprintf(buf, sizeof buf, "%.0fs", s);
-  else if (s < 5400)
-    std::snprintf(buf, sizeof buf, "%.1fmin", s / 60);
-  else
-    std::snprintf(buf, sizeof buf, "%.1fh", s / 3600);
-  return buf;
-}
-
 template <int D>
-RunResult run_structure(const CaseSpec& spec, const RunOptions& opt) {
-  const auto wall0 = Clock::now();
-  PhaseTimer timer;
-  RunResult result;
-  result.out_dir = opt.out_dir.empty() ? "out/" + spec.name : opt.out_dir;
-  std::filesystem::create_directories(result.out_dir);
-  write_file_atomically(result.out_dir + "/case.resolved.toml", spec.resolved_toml);
-
-  Scene<D> scene;
+RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene, PhaseTimer& timer) {
+  std::vector<std::string> columns;
+  for (const auto& p : scene.probes)
+    for (int d = 0; d < D; ++d) columns.push_back(p.name + "." + kComponents[d]);
+  RunFrame frame(spec, opt, columns, D);
   std::unique_ptr<TlsphSolver<D>> solver_ptr;
-  timer.time("setup", [&] {
-    scene = build_scene<D>(spec);
-    solver_ptr = std::make_unique<TlsphSolver<D>>(scene.structure, Exec{opt.device});
-  });
+  timer.time("setup", [&] { solver_ptr = std::make_unique<TlsphSolver<D>>(scene.structure, Exec{opt.device}); });
   TlsphSolver<D>& solver = *solver_ptr;
 
   // Step size: the structure's Courant limit, shrunk so that end_time is hit exactly.
   const Real dt_max = solver.stable_dt(spec.structure.courant);
   const long long steps = std::max(1LL, static_cast<long long>(std::ceil(spec.end_time / dt_max - 1e-9)));
   const Real dt = spec.end_time / static_cast<Real>(steps);
-  const Real out_interval = spec.output.interval > 0 ? spec.output.interval : 100 * dt;
-  const Real snap_interval = spec.output.snapshot_interval;
-
-  std::vector<std::string> probe_cols{"time"};
-  const char* comp[3] = {"ux", "uy", "uz"};
-  for (const auto& p : scene.probes)
-    for (int d = 0; d < D; ++d) probe_cols.push_back(p.name + "." + comp[d]);
-  CsvTable probes(result.out_dir + "/probes.csv", probe_cols);
-  CsvTable energy(result.out_dir + "/energy.csv",
-                  {"time", "fluid_kinetic", "fluid_potential", "structure_kinetic", "structure_potential",
-                   "structure_strain", "boundary_work", "total"});
-  SnapshotWriter snapshots(result.out_dir, D);
-  const bool write_snapshots = spec.output.snapshots && SnapshotWriter::available();
+  frame.set_output_interval(dt, 100);
 
   Real boundary_work = 0;  // work of the applied loads, integrated by the trapezoidal rule
   auto record = [&](Real t) {
@@ -152,28 +226,22 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt) {
                          (solver.deformation_gradient()[a] - Mat<D>::identity()) * (p.point - solver.reference()[a]);
         for (int d = 0; d < D; ++d) row.push_back(u[d]);
       }
-      probes.add_row(row);
+      frame.probes.add_row(row);
       const Real ek = solver.kinetic_energy(), ep = solver.potential_energy(), es = solver.strain_energy();
-      energy.add_row({t, 0, 0, ek, ep, es, boundary_work, ek + ep + es - boundary_work});
+      frame.energy.add_row({t, 0, 0, ek, ep, es, boundary_work, ek + ep + es - boundary_work});
     });
   };
   auto snapshot = [&](Real t) {
-    if (write_snapshots)
-      timer.time("output", [&] {
-        write_snapshot(snapshots, t, solver, scene);
-        probes.flush();
-        energy.flush();
-      });
+    timer.time("output", [&] {
+      write_structure_snapshot(frame.snapshots, t, solver, scene);
+      frame.flush();
+    });
   };
 
   record(0);
-  snapshot(0);
-  Real next_out = out_interval, next_snap = snap_interval > 0 ? snap_interval : spec.end_time * 2;
+  if (frame.writes_snapshots()) snapshot(0);
   long long step = 0;
   const bool loaded = !scene.structure.loads.empty();
-  auto last_progress = Clock::now();
-  result.status = "completed";
-  result.message = "reached end_time";
   for (; step < steps; ++step) {
     const Real t = step * dt;
     const Real p0 = loaded ? solver.external_power(t) : 0;
@@ -183,49 +251,25 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt) {
     if ((step + 1) % 16 == 0 || step + 1 == steps) {
       const Index bad = find_divergence(solver, 10 * scene.body_extent);
       if (bad >= 0) {
-        result.status = "diverged";
         char buf[256];
         std::snprintf(buf, sizeof buf,
                       "structure particle %d (id %d) became non-finite or moved more than 10 body lengths at t = %.6g s "
                       "(step %lld); try a smaller structure.courant",
                       bad, scene.structure_id[bad], t1, step + 1);
-        result.message = buf;
+        frame.diverge(buf);
         ++step;
         record(t1);
-        snapshot(t1);
+        if (frame.writes_snapshots()) snapshot(t1);
         break;
       }
     }
-    if (t1 >= next_out - 1e-12 * spec.end_time || step + 1 == steps) {
-      record(t1);
-      while (next_out <= t1 + 1e-12 * spec.end_time) next_out += out_interval;
-    }
-    if (t1 >= next_snap - 1e-12 * spec.end_time) {
-      snapshot(t1);
-      while (next_snap <= t1 + 1e-12 * spec.end_time) next_snap += snap_interval;
-    }
-    if (opt.progress && seconds_since(last_progress) > 2.0) {
-      last_progress = Clock::now();
-      const double elapsed = seconds_since(wall0);
-      const double rate = (step + 1) / std::max(1e-9, timer.get("structure"));
-      std::fprintf(stderr, "[%s] t = %.4g / %.4g s (%.0f%%)  %.0f steps/s  ETA %s\n", spec.name.c_str(), t1,
-                   spec.end_time, 100.0 * t1 / spec.end_time, rate,
-                   format_duration(elapsed / (t1 / spec.end_time) - elapsed).c_str());
-    }
+    if (frame.due_record(t1, step + 1 == steps)) record(t1);
+    if (frame.due_snapshot(t1)) snapshot(t1);
+    frame.progress(t1, step + 1, timer.get("structure"));
   }
-  if (result.status == "completed" && !(snap_interval > 0 && std::fabs(std::fmod(spec.end_time, snap_interval)) < 1e-12))
-    snapshot(spec.end_time);
-  probes.flush();
-  energy.flush();
+  if (frame.result.status == "completed" && frame.final_snapshot_due()) snapshot(spec.end_time);
 
-  const double wall = seconds_since(wall0);
   const double t_struct = timer.get("structure");
-  JsonObject particles;
-  particles.set("fluid", static_cast<long long>(scene.fluid_particles))
-      .set("wall", static_cast<long long>(scene.wall_particles))
-      .set("structure", static_cast<long long>(solver.size()));
-  JsonObject step_counts;
-  step_counts.set("fluid", 0LL).set("structure", step);
   JsonObject ppe;
   ppe.set("solver", "none").set("mean_iterations", 0.0).set("max_iterations", 0LL).set("failures", 0LL);
   JsonObject perf;
@@ -235,24 +279,155 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt) {
       .set("pair_evaluations", static_cast<long long>(solver.pair_evaluations()))
       .set("pair_evaluations_per_s", t_struct > 0 ? solver.pair_evaluations() / t_struct : 0.0)
       .set("particle_steps_per_s", t_struct > 0 ? double(solver.size()) * step / t_struct : 0.0);
-  JsonObject summary;
-  summary.set("case", spec.name)
-      .set("dimension", D)
-      .set("device", device_name(opt.device))
-      .set("particles", particles)
-      .set("steps", step_counts)
-      .set("simulated_time", step * dt)
-      .set("wall_time_s", wall)
-      .set("phases", timer.json())
-      .set("ppe", ppe)
-      .set("performance", perf)
-      .set("status", result.status)
-      .set("message", result.message);
-  write_file_atomically(result.out_dir + "/summary.json", summary.dump() + "\n");
-  if (opt.progress)
-    std::fprintf(stderr, "[%s] %s: %s; %lld steps in %.2f s wall; output in %s\n", spec.name.c_str(),
-                 result.status.c_str(), result.message.c_str(), step, wall, result.out_dir.c_str());
-  return result;
+  frame.finish(D, particle_counts(scene.fluid_particles, scene.wall_particles, solver.size()), 0, step, step * dt,
+               timer, ppe, perf);
+  return frame.result;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Fluid only (ISPH)
+// ------------------------------------------------------------------------------------------------
+
+// Writes the fields of the fluid and wall particles, in stable-id order.
+template <int D>
+void write_fluid_snapshot(SnapshotWriter& writer, double t, const IsphSolver<D>& solver) {
+  const Index n = solver.size();
+  std::vector<Index> slot(n);
+  for (Index a = 0; a < n; ++a) slot[solver.id()[a]] = a;
+  std::vector<std::array<double, 3>> pos(n);
+  SnapshotField vel{"velocity", 3, std::vector<double>(3 * n, 0.0)};
+  SnapshotField shift{"shift", 3, std::vector<double>(3 * n, 0.0)};
+  SnapshotField p{"pressure", 1, std::vector<double>(n)}, kind{"kind", 1, std::vector<double>(n)},
+      surface{"surface_class", 1, std::vector<double>(n)}, div_r{"div_r", 1, std::vector<double>(n)},
+      id{"id", 1, std::vector<double>(n)};
+  for (Index k = 0; k < n; ++k) {
+    const Index a = slot[k];
+    pos[k] = to_array(solver.position()[a]);
+    put_vector(vel, k, solver.velocity()[a]);
+    put_vector(shift, k, solver.shift()[a]);
+    p.data[k] = solver.pressure()[a];
+    kind.data[k] = solver.kind()[a] == FluidKind::fluid ? 0 : 1;
+    surface.data[k] = static_cast<double>(solver.surface_class()[a]);
+    div_r.data[k] = solver.position_divergence()[a];
+    id.data[k] = k;
+  }
+  writer.write(t, pos, {vel, p, kind, surface, div_r, shift, id});
+}
+
+// First fluid particle outside the escape box, or -1.
+template <int D>
+Index find_escape(const IsphSolver<D>& solver, const Scene<D>& scene) {
+  for (Index a = 0; a < solver.size(); ++a) {
+    if (solver.kind()[a] != FluidKind::fluid) continue;
+    for (int d = 0; d < D; ++d)
+      if (solver.position()[a][d] < scene.domain_lo[d] || solver.position()[a][d] > scene.domain_hi[d]) return a;
+  }
+  return -1;
+}
+
+template <int D>
+RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene, PhaseTimer& timer) {
+  std::vector<std::string> columns;
+  for (const auto& p : scene.fluid_probes) {
+    if (p.type == "pressure") columns.push_back(p.name + ".p");
+    if (p.type == "front") columns.push_back(p.name + ".x");
+    if (p.type == "velocity")
+      for (int d = 0; d < D; ++d) columns.push_back(p.name + "." + kComponents[d]);
+  }
+  RunFrame frame(spec, opt, columns, D);
+  std::unique_ptr<IsphSolver<D>> solver_ptr;
+  timer.time("setup", [&] { solver_ptr = std::make_unique<IsphSolver<D>>(std::move(scene.fluid)); });
+  IsphSolver<D>& solver = *solver_ptr;
+  frame.set_output_interval(solver.time_step(), 20);
+
+  auto record = [&](Real t) {
+    timer.time("output", [&] {
+      std::vector<double> row{t};
+      for (const auto& p : scene.fluid_probes) {
+        if (p.type == "pressure") row.push_back(solver.interpolate_pressure(p.point));
+        if (p.type == "front") row.push_back(solver.front(p.point[D - 1]));
+        if (p.type == "velocity") {
+          const Vec<D> u = solver.interpolate_velocity(p.point);
+          for (int d = 0; d < D; ++d) row.push_back(u[d]);
+        }
+      }
+      frame.probes.add_row(row);
+      const Real ek = solver.kinetic_energy(), ep = solver.potential_energy();
+      frame.energy.add_row({t, ek, ep, 0, 0, 0, 0, ek + ep});
+    });
+  };
+  auto snapshot = [&](Real t) {
+    timer.time("output", [&] {
+      write_fluid_snapshot(frame.snapshots, t, solver);
+      frame.flush();
+    });
+  };
+
+  record(0);
+  if (frame.writes_snapshots()) snapshot(0);
+  long long step = 0, iterations = 0, max_iterations = 0, failures = 0;
+  Real t = 0;
+  const Real eps = 1e-12 * spec.end_time;
+  while (t < spec.end_time - eps) {
+    Real dt = solver.time_step();
+    if (t + dt > spec.end_time - eps) dt = spec.end_time - t;  // land on end_time
+    const FluidStepReport report = solver.step(dt, timer);
+    ++step;
+    t += dt;
+    iterations += report.ppe.iterations;
+    max_iterations = std::max<long long>(max_iterations, report.ppe.iterations);
+    char buf[512];
+    if (report.ppe_failed) {
+      ++failures;
+      std::snprintf(buf, sizeof buf,
+                    "the pressure Poisson equation was not solved at t = %.6g s (step %lld): %s after %d iterations, "
+                    "relative residual %.3g (%s)%s",
+                    t, step, report.ppe_solver.c_str(), report.ppe.iterations, report.ppe.relative_residual,
+                    report.ppe.message.c_str(),
+                    spec.fluid.ppe.fallback == "none" ? "; a fallback solver can be set with fluid.ppe.fallback" : "");
+      frame.diverge(buf);
+    } else if (const Index bad = solver.first_non_finite(); bad >= 0) {
+      std::snprintf(buf, sizeof buf, "fluid particle id %d became non-finite at t = %.6g s (step %lld)",
+                    solver.id()[bad], t, step);
+      frame.diverge(buf);
+    } else if (const Index out = find_escape(solver, scene); out >= 0) {
+      std::snprintf(buf, sizeof buf, "fluid particle id %d escaped the tank at t = %.6g s (step %lld), at (%g, %g)",
+                    solver.id()[out], t, step, solver.position()[out][0], solver.position()[out][1]);
+      frame.diverge(buf);
+    }
+    if (frame.result.status != "completed") {
+      record(t);
+      if (frame.writes_snapshots()) snapshot(t);
+      break;
+    }
+    if (frame.due_record(t, t >= spec.end_time - eps)) record(t);
+    if (frame.due_snapshot(t)) snapshot(t);
+    frame.progress(t, step, timer.total() - timer.get("output") - timer.get("setup"));
+  }
+  if (frame.result.status == "completed" && frame.final_snapshot_due()) snapshot(t);
+
+  const double stepping = timer.total() - timer.get("output") - timer.get("setup");
+  JsonObject ppe;
+  ppe.set("solver", solver.ppe_solver_name())
+      .set("mean_iterations", step > 0 ? double(iterations) / step : 0.0)
+      .set("max_iterations", max_iterations)
+      .set("failures", failures);
+  JsonObject perf;
+  perf.set("threads", static_cast<long long>(omp_get_max_threads()))
+      .set("mean_fluid_dt", step > 0 ? t / step : 0.0)
+      .set("fluid_particle_steps_per_s", stepping > 0 ? double(solver.fluid_count()) * step / stepping : 0.0);
+  frame.finish(D, particle_counts(solver.fluid_count(), solver.wall_count(), 0), step, 0, t, timer, ppe, perf);
+  return frame.result;
+}
+
+template <int D>
+RunResult run_dimension(const CaseSpec& spec, const RunOptions& opt) {
+  PhaseTimer timer;
+  Scene<D> scene;
+  timer.time("setup", [&] { scene = build_scene<D>(spec); });
+  if (scene.has_fluid && scene.has_structure)
+    throw std::runtime_error(spec.name + ": fluid-structure coupling is not available in this version");
+  return scene.has_fluid ? run_fluid<D>(spec, opt, scene, timer) : run_structure<D>(spec, opt, scene, timer);
 }
 
 }  // namespace
@@ -260,8 +435,8 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt) {
 RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
   if (options.threads > 0) omp_set_num_threads(options.threads);
   if (options.device != Device::cpu)
-    throw std::runtime_error("--device cuda: the structure time loop runs on the cpu only in this version");
-  return spec.dimension == 3 ? run_structure<3>(spec, options) : run_structure<2>(spec, options);
+    throw std::runtime_error("--device cuda: the time loops run on the cpu only in this version");
+  return spec.dimension == 3 ? run_dimension<3>(spec, options) : run_dimension<2>(spec, options);
 }
 
 }  // namespace isph

@@ -87,6 +87,243 @@ Vec<D> initial_velocity(const InitialVelocitySpec& iv, const Vec<D>& X) {
   return Vec<D>::zero();
 }
 
+// Appends a fluid or wall body's lattice points to the fluid set-up.
+template <int D>
+void add_fluid_body(const CaseSpec& spec, std::size_t bi, const std::vector<Vec<D>>& points, FluidSetup<D>& f) {
+  const BodySpec& body = spec.bodies[bi];
+  const bool is_fluid = body.kind == ParticleKind::fluid;
+  const Real volume = D == 2 ? spec.dx * spec.dx : spec.dx * spec.dx * spec.dx;
+  const Vec<D> wall_velocity = body.motion == "constant_velocity" ? to_vec<D>(body.velocity) : Vec<D>::zero();
+  for (const auto& p : points) {
+    f.id.push_back(static_cast<Index>(f.x.size()));
+    f.x.push_back(p);
+    f.u.push_back(is_fluid ? initial_velocity<D>(body.initial_velocity, p) : wall_velocity);
+    f.volume.push_back(volume);
+    f.kind.push_back(is_fluid ? FluidKind::fluid : FluidKind::wall);
+    f.wall_velocity.push_back(is_fluid ? Vec<D>::zero() : wall_velocity);
+  }
+}
+
+template <int D>
+Periodicity<D> periodicity(const PeriodicSpec& p) {
+  Periodicity<D> period;
+  for (int d = 0; d < D; ++d) {
+    period.axis[d] = p.axis[d];
+    period.lo[d] = p.lo[d];
+    period.length[d] = p.hi[d] - p.lo[d];
+  }
+  return period;
+}
+
+// Wall surface geometry for the no-slip condition (FluidView::velocity_seen): for each wall particle
+// the nearest lattice point that is inside the bounding box of all particles and not occupied by a
+// wall particle (the "cavity" the fluid lives in) gives the normal n_w, pointing to it, and the depth
+// d_w = |q - x_w| - dx/2 (the wall surface lies half a spacing before the first free lattice point).
+// Wall particles with no free point within the kernel support keep n = 0 and never meet fluid.
+template <int D>
+void wall_surface_geometry(FluidSetup<D>& f, Real dx, Real support, const Periodicity<D>& period) {
+  const Index n = static_cast<Index>(f.x.size());
+  f.wall_normal.assign(n, Vec<D>::zero());
+  f.wall_depth.assign(n, 0);
+  std::vector<Vec<D>> walls;
+  for (Index a = 0; a < n; ++a)
+    if (f.kind[a] == FluidKind::wall) walls.push_back(f.x[a]);
+  if (walls.empty()) return;
+  Vec<D> lo = f.x[0], hi = f.x[0];
+  for (const auto& x : f.x)
+    for (int d = 0; d < D; ++d) lo[d] = std::min(lo[d], x[d]), hi[d] = std::max(hi[d], x[d]);
+  CellList<D> cells;
+  cells.build(walls, dx, period);
+  const CellListView<D> view = cells.view();
+  // Occupancy: a wall particle within dx/2 of q (q is looked up through a temporary slot).
+  std::vector<Vec<D>> probe_point(1);
+  auto occupied = [&](const Vec<D>& q) {
+    const CellGrid<D>& g = view.grid;
+    int c[D];
+    for (int d = 0; d < D; ++d) c[d] = g.coord(q, d);
+    int off[D];
+    for (int d = 0; d < D; ++d) off[d] = -1;
+    while (true) {
+      int cell[D];
+      bool inside = true;
+      for (int d = 0; d < D; ++d) {
+        cell[d] = c[d] + off[d];
+        if (period.axis[d]) cell[d] = (cell[d] + g.dims[d]) % g.dims[d];
+        else if (cell[d] < 0 || cell[d] >= g.dims[d]) inside = false;
+      }
+      if (inside) {
+        const Index k = g.flat(cell);
+        for (Index s = view.cell_start[k]; s < view.cell_start[k + 1]; ++s)
+          if (norm2(period.delta(q, walls[view.sorted[s]])) < 0.25 * dx * dx) return true;
+      }
+      int d = 0;
+      while (d < D && ++off[d] > 1) off[d] = -1, ++d;
+      if (d == D) return false;
+    }
+  };
+  const int reach = static_cast<int>(std::ceil(support / dx)) + 1;
+  for (Index a = 0; a < n; ++a) {
+    if (f.kind[a] != FluidKind::wall) continue;
+    Real best = std::numeric_limits<Real>::max();
+    Vec<D> best_offset = Vec<D>::zero();
+    int k[D];
+    for (int d = 0; d < D; ++d) k[d] = -reach;
+    while (true) {
+      Vec<D> offset;
+      for (int d = 0; d < D; ++d) offset[d] = k[d] * dx;
+      const Real dist2 = norm2(offset);
+      if (dist2 > 0 && dist2 < best) {
+        const Vec<D> q = period.wrap(f.x[a] + offset);
+        bool in_box = true;
+        for (int d = 0; d < D; ++d)
+          if (!period.axis[d] && (q[d] < lo[d] || q[d] > hi[d])) in_box = false;
+        if (in_box && !occupied(q)) best = dist2, best_offset = offset;
+      }
+      int d = 0;
+      while (d < D && ++k[d] > reach) k[d] = -reach, ++d;
+      if (d == D) break;
+    }
+    if (best == std::numeric_limits<Real>::max()) continue;
+    const Real dist = std::sqrt(best);
+    f.wall_normal[a] = (1.0 / dist) * best_offset;
+    f.wall_depth[a] = dist - 0.5 * dx;
+  }
+}
+
+// Checks the fluid set-up and completes it: material, overlaps, containment, wall geometry, the
+// reference velocity of Eq. 49 and the fluid probes.
+template <int D>
+void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, std::vector<std::string>& problems) {
+  const std::string file = spec.source_path.empty() ? spec.name : spec.source_path;
+  const Real dx = spec.dx;
+  const Index n = static_cast<Index>(f.x.size());
+  const Periodicity<D> period = periodicity<D>(spec.periodic);
+  f.dx = dx;
+  f.kernel = SmoothingKernel<D>::make(kernel_type_from_name(spec.kernel.type), spec.kernel.h_factor * dx);
+  f.kernel_correction = spec.kernel.correction;
+  f.period = period;
+  f.gravity = to_vec<D>(spec.gravity);
+  f.settings = spec.fluid;
+
+  // One fluid material.
+  std::string material;
+  for (std::size_t bi = 0; bi < spec.bodies.size(); ++bi) {
+    const BodySpec& b = spec.bodies[bi];
+    if (b.kind != ParticleKind::fluid) continue;
+    if (material.empty()) material = b.material;
+    else if (b.material != material)
+      problems.push_back(file + ": bodies[" + std::to_string(bi) + "].material: all fluid bodies must share one material ('" +
+                         material + "' and '" + b.material + "')");
+  }
+  for (const auto& m : spec.materials)
+    if (m.name == material) f.density = m.density, f.viscosity = m.viscosity;
+
+  Index fluid = 0, wall = 0;
+  for (Index a = 0; a < n; ++a) (f.kind[a] == FluidKind::fluid ? fluid : wall)++;
+  scene.fluid_particles = fluid;
+  scene.wall_particles = wall;
+  if (fluid == 0) {
+    problems.push_back(file + ": bodies: stages.fluid is on but no fluid body has particles");
+    return;
+  }
+
+  // Particles on periodic axes must lie inside the period.
+  for (int d = 0; d < D; ++d) {
+    if (!period.axis[d]) continue;
+    for (Index a = 0; a < n; ++a)
+      if (f.x[a][d] < period.lo[d] || f.x[a][d] >= period.lo[d] + period.length[d]) {
+        problems.push_back(file + ": periodic: a particle at coordinate " + std::to_string(f.x[a][d]) + " on axis " +
+                           std::to_string(d) + " lies outside the periodic range; shrink the bodies to it");
+        break;
+      }
+  }
+
+  // Overlaps: a fluid particle inside a wall or structure body.
+  for (std::size_t bi = 0; bi < spec.bodies.size(); ++bi) {
+    const BodySpec& b = spec.bodies[bi];
+    if (b.kind == ParticleKind::fluid) continue;
+    Index inside = 0;
+    for (Index a = 0; a < n; ++a)
+      if (f.kind[a] == FluidKind::fluid && b.shape.contains(to_array(f.x[a]), D)) ++inside;
+    if (inside > 0)
+      problems.push_back(file + ": bodies[" + std::to_string(bi) + "].shape: " + std::to_string(inside) +
+                         " fluid particles lie inside this " + (b.kind == ParticleKind::wall ? "wall" : "structure") +
+                         " body '" + b.name + "' (bodies of different kinds must not overlap)");
+  }
+
+  // Containment: fluid inside the walls' bounding box on every non-periodic axis (open upwards,
+  // against gravity).
+  bool all_periodic = true;
+  for (int d = 0; d < D; ++d) all_periodic = all_periodic && period.axis[d];
+  Vec<D> lo, hi;
+  for (int d = 0; d < D; ++d) lo[d] = std::numeric_limits<Real>::max(), hi[d] = -lo[d];
+  for (Index a = 0; a < n; ++a)
+    if (f.kind[a] == FluidKind::wall)
+      for (int d = 0; d < D; ++d) lo[d] = std::min(lo[d], f.x[a][d]), hi[d] = std::max(hi[d], f.x[a][d]);
+  if (wall == 0 && !all_periodic) {
+    problems.push_back(file + ": bodies: the fluid needs wall bodies around it (or periodic axes)");
+  } else {
+    Index outside = 0;
+    for (Index a = 0; a < n; ++a) {
+      if (f.kind[a] != FluidKind::fluid) continue;
+      for (int d = 0; d < D; ++d)
+        if (!period.axis[d] && ((f.x[a][d] < lo[d] && !(spec.gravity[d] > 0)) ||
+                                (f.x[a][d] > hi[d] && !(spec.gravity[d] < 0)))) {
+          ++outside;
+          break;
+        }
+    }
+    if (outside > 0)
+      problems.push_back(file + ": bodies: " + std::to_string(outside) +
+                         " fluid particles lie outside every wall (beyond the walls' bounding box)");
+  }
+
+  wall_surface_geometry(f, dx, f.kernel.support(), period);
+
+  // Reference velocity of Eq. 49: free fall over the fluid's height, or the fastest wall.
+  Real fluid_lo = std::numeric_limits<Real>::max(), fluid_hi = -fluid_lo, wall_speed = 0;
+  const Vec<D> g = to_vec<D>(spec.gravity);
+  const Real g_norm = std::sqrt(norm2(g));
+  for (Index a = 0; a < n; ++a) {
+    if (f.kind[a] == FluidKind::wall) {
+      wall_speed = std::max(wall_speed, std::sqrt(norm2(f.wall_velocity[a])));
+    } else if (g_norm > 0) {
+      const Real height = -dot(f.x[a], g) / g_norm;
+      fluid_lo = std::min(fluid_lo, height), fluid_hi = std::max(fluid_hi, height);
+    }
+  }
+  const Real fall = g_norm > 0 ? std::sqrt(2 * g_norm * (fluid_hi - fluid_lo + dx)) : 0;
+  f.reference_velocity = spec.fluid.reference_velocity > 0 ? spec.fluid.reference_velocity : std::max(fall, wall_speed);
+  if (!(f.reference_velocity > 0))
+    problems.push_back(file + ": fluid.reference_velocity: no gravity and no moving wall; give the velocity scale of "
+                              "the flow (Eq. 49 needs it)");
+
+  // Escape box: the box of all particles grown by 2h, and upwards (against gravity) by its own size.
+  for (Index a = 0; a < n; ++a)
+    for (int d = 0; d < D; ++d) lo[d] = std::min(lo[d], f.x[a][d]), hi[d] = std::max(hi[d], f.x[a][d]);
+  for (int d = 0; d < D; ++d) {
+    const Real margin = f.kernel.support();
+    scene.domain_lo[d] = period.axis[d] ? -std::numeric_limits<Real>::max() : lo[d] - margin;
+    scene.domain_hi[d] = period.axis[d] ? std::numeric_limits<Real>::max() : hi[d] + margin;
+    if (!period.axis[d] && g_norm > 0 && g[d] < 0) scene.domain_hi[d] += hi[d] - lo[d];
+    if (!period.axis[d] && g_norm > 0 && g[d] > 0) scene.domain_lo[d] -= hi[d] - lo[d];
+  }
+
+  for (std::size_t pi = 0; pi < spec.probes.size(); ++pi) {
+    const ProbeSpec& p = spec.probes[pi];
+    if (p.type == "displacement") continue;
+    const Vec<D> point = to_vec<D>(p.point);
+    if (p.type != "front") {
+      Real nearest = std::numeric_limits<Real>::max();
+      for (Index a = 0; a < n; ++a) nearest = std::min(nearest, norm2(period.delta(point, f.x[a])));
+      if (std::sqrt(nearest) > f.kernel.support())
+        problems.push_back(file + ": probes[" + std::to_string(pi) + "].point: probe '" + p.name +
+                           "' is farther than the kernel support from every fluid and wall particle");
+    }
+    scene.fluid_probes.push_back({p.name, p.type, point});
+  }
+}
+
 }  // namespace
 
 ElasticMaterial elastic_material(const MaterialSpec& m, int dimension) {
@@ -104,7 +341,7 @@ Scene<D> build_scene(const CaseSpec& spec) {
   const Real dx = spec.dx;
   Scene<D> scene;
   TlsphSetup<D> s;  // in creation order; sorted by cell at the end
-  std::vector<Index> probe_candidates;
+  FluidSetup<D> fluid;
 
   for (const auto& m : spec.materials) s.materials.push_back(elastic_material(m, D));
   for (std::size_t bi = 0; bi < spec.bodies.size(); ++bi) {
@@ -117,10 +354,7 @@ Scene<D> build_scene(const CaseSpec& spec) {
       continue;
     }
     if (body.kind != ParticleKind::structure) {
-      (body.kind == ParticleKind::fluid ? scene.fluid_particles : scene.wall_particles) +=
-          static_cast<Index>(points.size());
-      problems.push_back(file + ": " + key + ".kind: '" + (body.kind == ParticleKind::fluid ? "fluid" : "wall") +
-                         "' bodies need the fluid stage, which is not available in this version");
+      add_fluid_body<D>(spec, bi, points, fluid);
       continue;
     }
     const auto mat = std::find_if(spec.materials.begin(), spec.materials.end(),
@@ -149,7 +383,11 @@ Scene<D> build_scene(const CaseSpec& spec) {
         problems.push_back(file + ": " + key + ".clamps[" + std::to_string(c) + "]: the clamp region holds no particle of the body");
   }
   const Index n = static_cast<Index>(s.X.size());
-  if (n == 0 && problems.empty()) problems.push_back(file + ": bodies: the case has no structure particles");
+  scene.has_structure = spec.stages.structure && n > 0;
+  scene.has_fluid = spec.stages.fluid;
+  if (spec.stages.structure && n == 0 && problems.empty())
+    problems.push_back(file + ": bodies: the case has no structure particles (set stages.structure = false)");
+  if (scene.has_fluid) finish_fluid<D>(spec, scene, fluid, problems);
 
   // Loads: per-particle acceleration at full load.
   for (std::size_t li = 0; li < spec.loads.size(); ++li) {
@@ -215,6 +453,7 @@ Scene<D> build_scene(const CaseSpec& spec) {
   // Probes: the structure particle nearest the point, which must lie within dx of the body.
   for (std::size_t pi = 0; pi < spec.probes.size(); ++pi) {
     const ProbeSpec& p = spec.probes[pi];
+    if (p.type != "displacement") continue;
     const Vec<D> point = to_vec<D>(p.point);
     Real best = std::numeric_limits<Real>::max();
     Index arg = -1;
@@ -238,6 +477,7 @@ Scene<D> build_scene(const CaseSpec& spec) {
   s.damping = spec.structure.damping;
   s.hourglass = spec.structure.hourglass;
   scene.structure = std::move(s);
+  scene.fluid = std::move(fluid);
   return scene;
 }
 

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "io/case.hpp"
+#include "sim/isph.hpp"
 #include "structure/tlsph.hpp"
 
 namespace isph {
@@ -15,15 +16,28 @@ struct DisplacementProbe {
   Vec<D> point;    // where u is reported: u_a + (F_a - I)(point - X_a)
 };
 
+// A fixed-point probe of the fluid: pressure, velocity or surge front (io/case.hpp ProbeSpec).
+template <int D>
+struct FluidProbe {
+  std::string name;
+  std::string type;  // pressure | velocity | front
+  Vec<D> point;
+};
+
 template <int D>
 struct Scene {
+  bool has_structure = false;        // the stages the case runs
+  bool has_fluid = false;
   TlsphSetup<D> structure;           // structure particles, sorted by cell
   std::vector<Index> structure_id;   // stable ids (output order)
   std::vector<int> structure_body;   // body index per structure particle
+  FluidSetup<D> fluid;               // fluid and wall particles
   Index fluid_particles = 0;
   Index wall_particles = 0;
   std::vector<DisplacementProbe<D>> probes;
+  std::vector<FluidProbe<D>> fluid_probes;
   Real body_extent = 0;              // largest body size, for the divergence test
+  Vec<D> domain_lo, domain_hi;       // fluid: a particle leaving this box has escaped
 };
 
 // Fills every body on its lattice, applies clamps, initial velocities and loads, and places the

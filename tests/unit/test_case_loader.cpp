@@ -42,6 +42,56 @@ name = "tip"
 point = [1, 0.05]
 )";
 
+// A small valid 2D fluid case: a dam break (water column in a tank of three walls).
+const std::string kDamBreak = R"(
+dx = 0.01
+end_time = 1
+gravity = [0, -9.81]
+
+[stages]
+fluid = true
+
+[fluid.shifting]
+type = "xu"
+
+[[materials]]
+name = "water"
+model = "newtonian"
+density = 1000
+viscosity = 1e-6
+
+[[bodies]]
+name = "water"
+kind = "fluid"
+material = "water"
+shape = { type = "rectangle", min = [0, 0], max = [0.2, 0.4] }
+
+[[bodies]]
+name = "floor"
+kind = "wall"
+shape = { type = "rectangle", min = [-0.03, -0.03], max = [1.03, 0] }
+
+[[bodies]]
+name = "left"
+kind = "wall"
+shape = { type = "rectangle", min = [-0.03, 0], max = [0, 0.6] }
+
+[[bodies]]
+name = "right"
+kind = "wall"
+shape = { type = "rectangle", min = [1, 0], max = [1.03, 0.6] }
+
+[[probes]]
+name = "p_wall"
+type = "pressure"
+point = [0.995, 0.02]
+
+[[probes]]
+name = "front"
+type = "front"
+point = [0, 0.01]
+)";
+
 class CaseLoaderTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -231,9 +281,11 @@ TEST_F(CaseLoaderTest, EmptyBoxIsAnError) {
               path + ": bodies[0].shape.max: must be > min in every component (component 1: min 0, max 0)"));
 }
 
-TEST_F(CaseLoaderTest, FluidStageIsNotAvailable) {
+TEST_F(CaseLoaderTest, FluidStageNeedsFluidBodies) {
   const auto path = write("fluid.toml", kBeam + "[stages]\nfluid = true\n");
-  EXPECT_TRUE(reports(problems(path), path + ": stages.fluid: the fluid stage is not available yet"));
+  const auto p = problems(path);
+  EXPECT_TRUE(reports(p, path + ": stages.fluid: needs at least one body of kind = \"fluid\""));
+  EXPECT_EQ(p.size(), 1u);
 }
 
 TEST_F(CaseLoaderTest, MissingFile) {
@@ -300,6 +352,9 @@ acceleration = [0, 0, -9.81]
         path + ": materials[0].youngs_modulus: give youngs_modulus or bulk_modulus, not both",
         path + ": materials[0].plane: only used in 2D (dimension = 3)",
         path + ": loads[0].body: no body named \"nothing\" (none defined)",
+        path +
+            ": stages.structure: needs at least one body of kind = \"structure\" (or set stages.fluid = true "
+            "for a fluid case)",
     };
     for (const auto& problem : expected) EXPECT_TRUE(reports(e.problems(), problem));
     EXPECT_EQ(e.problems().size(), expected.size());
@@ -369,6 +424,428 @@ ramp_time = 0.1
   EXPECT_EQ(second.loads[1].region.radius, 0.02);
   EXPECT_EQ(second.loads[1].ramp_time, 0.1);
   EXPECT_EQ(second.resolved_toml, first.resolved_toml);  // resolving is idempotent
+}
+
+TEST_F(CaseLoaderTest, FluidCaseLoadsWithDefaults) {
+  const CaseSpec c = load_case(write("dam_break.toml", kDamBreak));
+  EXPECT_TRUE(c.stages.fluid);
+  EXPECT_FALSE(c.stages.structure);  // no structure bodies: the structure stage does not run
+
+  ASSERT_EQ(c.materials.size(), 1u);
+  EXPECT_EQ(c.materials[0].model, "newtonian");
+  EXPECT_DOUBLE_EQ(c.materials[0].density, 1000.0);
+  EXPECT_DOUBLE_EQ(c.materials[0].viscosity, 1e-6);
+
+  ASSERT_EQ(c.bodies.size(), 4u);
+  EXPECT_EQ(c.bodies[0].kind, ParticleKind::fluid);
+  EXPECT_EQ(c.bodies[0].material, "water");
+  EXPECT_EQ(c.bodies[0].initial_velocity.type, "none");
+  for (std::size_t i = 1; i < 4; ++i) {
+    EXPECT_EQ(c.bodies[i].kind, ParticleKind::wall);
+    EXPECT_TRUE(c.bodies[i].material.empty());
+    EXPECT_EQ(c.bodies[i].motion, "none");
+  }
+
+  ASSERT_EQ(c.probes.size(), 2u);
+  EXPECT_EQ(c.probes[0].type, "pressure");
+  EXPECT_EQ(c.probes[1].type, "front");
+  EXPECT_EQ(c.probes[1].point, (std::array<double, 3>{0, 0.01, 0}));
+
+  const FluidSpec& f = c.fluid;
+  EXPECT_DOUBLE_EQ(f.courant, 0.1);
+  EXPECT_DOUBLE_EQ(f.viscous_number, 0.125);
+  EXPECT_DOUBLE_EQ(f.reference_velocity, 0.0);
+  EXPECT_DOUBLE_EQ(f.max_dt, 0.0);
+  EXPECT_EQ(f.turbulence, "none");
+  EXPECT_DOUBLE_EQ(f.smagorinsky, 0.1);
+  EXPECT_TRUE(f.free_surface);
+  EXPECT_DOUBLE_EQ(f.surface_threshold, 0.0);
+  EXPECT_DOUBLE_EQ(f.surface_full, 0.0);
+  EXPECT_EQ(f.shifting.type, "xu");
+  EXPECT_DOUBLE_EQ(f.shifting.coefficient, 0.05);
+  EXPECT_DOUBLE_EQ(f.shifting.max_fraction, 0.2);
+  EXPECT_TRUE(f.shifting.taylor_correction);
+  EXPECT_EQ(f.ppe.backend, "eigen");
+  EXPECT_EQ(f.ppe.method, "bicgstab");
+  EXPECT_EQ(f.ppe.preconditioner, "ilu");
+  EXPECT_DOUBLE_EQ(f.ppe.tolerance, 1e-8);
+  EXPECT_EQ(f.ppe.max_iterations, 1000);
+  EXPECT_EQ(f.ppe.fallback, "none");
+
+  for (int k = 0; k < 3; ++k) EXPECT_FALSE(c.periodic.axis[k]);
+}
+
+TEST_F(CaseLoaderTest, FluidTablesAndWallMotion) {
+  const auto path = write("couette.toml", R"(
+dx = 0.01
+end_time = 1
+[stages]
+fluid = true
+[fluid]
+courant = 0.2
+viscous_number = 0.1
+reference_velocity = 1
+max_dt = 1e-3
+turbulence = "sps"
+smagorinsky = 0.12
+free_surface = false
+surface_threshold = 1.3
+surface_full = 1.5
+[fluid.shifting]
+type = "none"
+coefficient = 0.1
+max_fraction = 0.1
+taylor_correction = false
+[fluid.ppe]
+backend = "hypre"
+method = "gmres"
+tolerance = 1e-6
+max_iterations = 200
+fallback = "eigen"
+[periodic]
+x = [0, 0.1]
+[[materials]]
+name = "oil"
+model = "newtonian"
+density = 900
+viscosity = 1e-4
+[[bodies]]
+name = "oil"
+kind = "fluid"
+material = "oil"
+shape = { type = "rectangle", min = [0, 0], max = [0.1, 0.1] }
+initial_velocity = { type = "uniform", value = [0.5, 0] }
+[[bodies]]
+name = "plate"
+kind = "wall"
+motion = "constant_velocity"
+velocity = [1, 0]
+shape = { type = "rectangle", min = [0, 0.1], max = [0.1, 0.13] }
+[[probes]]
+name = "u_mid"
+type = "velocity"
+point = [0.05, 0.05]
+)");
+  const CaseSpec c = load_case(path);
+  const FluidSpec& f = c.fluid;
+  EXPECT_DOUBLE_EQ(f.courant, 0.2);
+  EXPECT_DOUBLE_EQ(f.viscous_number, 0.1);
+  EXPECT_DOUBLE_EQ(f.reference_velocity, 1.0);
+  EXPECT_DOUBLE_EQ(f.max_dt, 1e-3);
+  EXPECT_EQ(f.turbulence, "sps");
+  EXPECT_DOUBLE_EQ(f.smagorinsky, 0.12);
+  EXPECT_FALSE(f.free_surface);
+  EXPECT_DOUBLE_EQ(f.surface_threshold, 1.3);
+  EXPECT_DOUBLE_EQ(f.surface_full, 1.5);
+  EXPECT_EQ(f.shifting.type, "none");
+  EXPECT_DOUBLE_EQ(f.shifting.coefficient, 0.1);
+  EXPECT_DOUBLE_EQ(f.shifting.max_fraction, 0.1);
+  EXPECT_FALSE(f.shifting.taylor_correction);
+  EXPECT_EQ(f.ppe.backend, "hypre");
+  EXPECT_EQ(f.ppe.method, "gmres");
+  EXPECT_EQ(f.ppe.preconditioner, "boomeramg");  // the default of hypre
+  EXPECT_DOUBLE_EQ(f.ppe.tolerance, 1e-6);
+  EXPECT_EQ(f.ppe.max_iterations, 200);
+  EXPECT_EQ(f.ppe.fallback, "eigen");
+  EXPECT_EQ(c.periodic.axis, (std::array<bool, 3>{true, false, false}));
+  EXPECT_DOUBLE_EQ(c.periodic.lo[0], 0.0);
+  EXPECT_DOUBLE_EQ(c.periodic.hi[0], 0.1);
+  EXPECT_EQ(c.bodies[0].initial_velocity.value, (std::array<double, 3>{0.5, 0, 0}));
+  EXPECT_EQ(c.bodies[1].motion, "constant_velocity");
+  EXPECT_EQ(c.bodies[1].velocity, (std::array<double, 3>{1, 0, 0}));
+  EXPECT_EQ(c.probes[0].type, "velocity");
+
+  // Round trip of a case that sets everything.
+  const CaseSpec again = load_case(write("couette.resolved.toml", c.resolved_toml));
+  EXPECT_EQ(again.resolved_toml, c.resolved_toml);
+  EXPECT_EQ(again.bodies[1].velocity, c.bodies[1].velocity);
+  EXPECT_EQ(again.periodic.axis, c.periodic.axis);
+  EXPECT_EQ(again.periodic.hi, c.periodic.hi);
+  EXPECT_EQ(again.fluid.ppe.preconditioner, "boomeramg");
+}
+
+TEST_F(CaseLoaderTest, FluidMaterialErrors) {
+  std::string text = kDamBreak;
+  text.replace(text.find("density = 1000"), 14, "density = 0");
+  text.replace(text.find("viscosity = 1e-6"), 16, "viscosity = -1e-6");
+  const auto path = write("bad_water.toml", text);
+  auto p = problems(path);
+  EXPECT_TRUE(reports(p, path + ": materials[0].density: must be > 0 (got 0)"));
+  EXPECT_TRUE(reports(p, path + ": materials[0].viscosity: must be > 0 (got -1e-06)"));
+  EXPECT_EQ(p.size(), 2u);
+
+  const auto mixed = write("mixed.toml", kDamBreak + R"(
+[[materials]]
+name = "syrup"
+model = "newtonian"
+density = 1400
+youngs_modulus = 1e9
+poisson_ratio = 0.3
+[[materials]]
+name = "steel"
+density = 7800
+youngs_modulus = 2e11
+poisson_ratio = 0.3
+viscosity = 1e-3
+[[materials]]
+name = "gel"
+model = "bingham"
+density = 1
+)");
+  p = problems(mixed);
+  EXPECT_TRUE(reports(p, mixed + ": materials[1].viscosity: missing required key"));
+  EXPECT_TRUE(reports(p, mixed + ": materials[1].youngs_modulus: only for saint_venant_kirchhoff (model = "
+                                 "\"newtonian\")"));
+  EXPECT_TRUE(reports(p, mixed + ": materials[1].poisson_ratio: only for saint_venant_kirchhoff (model = "
+                                 "\"newtonian\")"));
+  EXPECT_TRUE(reports(p, mixed + ": materials[2].viscosity: only for newtonian (model = "
+                                 "\"saint_venant_kirchhoff\")"));
+  EXPECT_TRUE(reports(p, mixed + ": materials[3].model: must be one of \"saint_venant_kirchhoff\", "
+                                 "\"newtonian\" (got \"bingham\")"));
+  EXPECT_EQ(p.size(), 5u);
+}
+
+TEST_F(CaseLoaderTest, BodyKindsAndMaterialModels) {
+  const auto path = write("kinds.toml", kDamBreak + R"(
+[[materials]]
+name = "steel"
+density = 7800
+youngs_modulus = 2e11
+poisson_ratio = 0.3
+[[bodies]]
+name = "blob"
+kind = "fluid"
+material = "steel"
+motion = "constant_velocity"
+clamps = []
+shape = { type = "circle", center = [0.5, 0.5], radius = 0.05 }
+initial_velocity = { type = "cantilever_mode", tip_velocity = 1, length = 1 }
+[[bodies]]
+name = "gate"
+material = "water"
+shape = { type = "rectangle", min = [0.2, 0], max = [0.21, 0.4] }
+[[bodies]]
+name = "lid"
+kind = "wall"
+motion = "constant_velocity"
+initial_velocity = { type = "uniform", value = [1, 0] }
+shape = { type = "rectangle", min = [0, 0.6], max = [1, 0.63] }
+[[bodies]]
+name = "sill"
+kind = "wall"
+velocity = [1, 0]
+shape = { type = "rectangle", min = [0.5, 0], max = [0.6, 0.03] }
+)");
+  const auto p = problems(path);
+  EXPECT_TRUE(reports(p, path + ": bodies[4].material: material \"steel\" has model = "
+                                "\"saint_venant_kirchhoff\", but a fluid body needs model = \"newtonian\""));
+  EXPECT_TRUE(reports(p, path + ": bodies[4].motion: only for kind = \"wall\" (kind = \"fluid\")"));
+  EXPECT_TRUE(reports(p, path + ": bodies[4].clamps: only for kind = \"structure\" (kind = \"fluid\")"));
+  EXPECT_TRUE(reports(p, path + ": bodies[4].initial_velocity: type \"cantilever_mode\" is only for kind = "
+                                "\"structure\"; a fluid takes \"none\" or \"uniform\""));
+  EXPECT_TRUE(reports(p, path + ": bodies[5].material: material \"water\" has model = \"newtonian\", but a "
+                                "structure body needs model = \"saint_venant_kirchhoff\""));
+  EXPECT_TRUE(reports(p, path + ": bodies[6].initial_velocity: not for kind = \"wall\" (use motion)"));
+  EXPECT_TRUE(reports(p, path + ": bodies[6].velocity: missing required key"));
+  EXPECT_TRUE(reports(p, path + ": bodies[7].velocity: only with motion = \"constant_velocity\""));
+  EXPECT_EQ(p.size(), 8u);
+}
+
+TEST_F(CaseLoaderTest, FluidMissingMaterial) {
+  std::string text = kDamBreak;
+  text.replace(text.find("material = \"water\"\n"), 19, "");
+  const auto path = write("no_material.toml", text);
+  EXPECT_EQ(problems(path), std::vector<std::string>{path + ": bodies[0].material: missing required key"});
+}
+
+TEST_F(CaseLoaderTest, StagesFollowTheBodies) {
+  std::string text = kDamBreak;
+  text.replace(text.find("fluid = true"), 12, "fluid = false");
+  const auto path = write("no_fluid_stage.toml", text);
+  auto p = problems(path);
+  EXPECT_TRUE(reports(p, path + ": stages.fluid: the case has fluid bodies (bodies[0] \"water\"); set "
+                                "stages.fluid = true"));
+  EXPECT_TRUE(reports(p, path + ": stages.structure: needs at least one body of kind = \"structure\" (or set "
+                                "stages.fluid = true for a fluid case)"));
+  EXPECT_TRUE(reports(p, path + ": probes[0].type: \"pressure\" probes need stages.fluid = true"));
+  EXPECT_TRUE(reports(p, path + ": probes[1].type: \"front\" probes need stages.fluid = true"));
+  EXPECT_EQ(p.size(), 4u);
+
+  // A beam in a fluid case runs both stages; switching the structure stage off is an error.
+  const auto both = write("both.toml", kDamBreak + R"(
+[[materials]]
+name = "steel"
+density = 7800
+youngs_modulus = 2e11
+poisson_ratio = 0.3
+[[bodies]]
+name = "beam"
+material = "steel"
+shape = { type = "rectangle", min = [0.5, 0], max = [0.51, 0.1] }
+[[probes]]
+name = "tip"
+point = [0.51, 0.1]
+)");
+  const CaseSpec c = load_case(both);
+  EXPECT_TRUE(c.stages.structure);
+  EXPECT_TRUE(c.stages.fluid);
+  p = problems(both, {"stages.structure=false"});
+  EXPECT_TRUE(reports(p, both + ": stages.structure: the case has structure bodies (bodies[4] \"beam\"); set "
+                                "stages.structure = true"));
+  EXPECT_TRUE(reports(p, both + ": probes[2].type: \"displacement\" probes need stages.structure = true"));
+  EXPECT_EQ(p.size(), 2u);
+
+  // Neither stage.
+  const auto walls = write("walls.toml", R"(
+dx = 0.01
+end_time = 1
+[stages]
+structure = false
+[[bodies]]
+name = "floor"
+kind = "wall"
+shape = { type = "rectangle", min = [0, 0], max = [1, 0.03] }
+)");
+  EXPECT_EQ(problems(walls),
+            std::vector<std::string>{
+                walls + ": stages: nothing to run: set stages.structure or stages.fluid to true"});
+
+  // A displacement probe in a fluid-only case.
+  p = problems(write("fluid_probe.toml", kDamBreak + "[[probes]]\nname = \"tip\"\npoint = [0, 0]\n"));
+  EXPECT_EQ(
+      p, std::vector<std::string>{(dir_ / "fluid_probe.toml").string() +
+                                  ": probes[2].type: \"displacement\" probes need stages.structure = true"});
+}
+
+TEST_F(CaseLoaderTest, FluidSettingErrors) {
+  const auto path = write("settings.toml", kDamBreak + R"(
+[fluid]
+courant = 0
+viscous_number = -1
+reference_velocity = -1
+turbulence = "les"
+surface_threshold = 1.5
+surface_full = 1.5
+[fluid.ppe]
+backend = "petsc"
+method = "cg"
+tolerance = 1
+max_iterations = 0
+fallback = "amgx"
+)");
+  auto p = problems(path);
+  EXPECT_TRUE(reports(p, path + ": fluid.courant: must be > 0 (got 0)"));
+  EXPECT_TRUE(reports(p, path + ": fluid.viscous_number: must be > 0 (got -1)"));
+  EXPECT_TRUE(reports(p, path + ": fluid.reference_velocity: must be >= 0 (got -1)"));
+  EXPECT_TRUE(reports(p, path + ": fluid.turbulence: must be one of \"none\", \"sps\" (got \"les\")"));
+  EXPECT_TRUE(reports(p, path + ": fluid.surface_full: must be > surface_threshold (got 1.5 <= 1.5)"));
+  EXPECT_TRUE(reports(p, path + ": fluid.ppe.backend: must be one of \"eigen\", \"hypre\" (got \"petsc\")"));
+  EXPECT_TRUE(reports(p, path + ": fluid.ppe.method: must be one of \"bicgstab\", \"gmres\" (got \"cg\")"));
+  EXPECT_TRUE(reports(p, path + ": fluid.ppe.tolerance: must be > 0 and < 1 (got 1)"));
+  EXPECT_TRUE(reports(p, path + ": fluid.ppe.max_iterations: must be > 0 (got 0)"));
+  EXPECT_TRUE(reports(
+      p, path + ": fluid.ppe.fallback: must be one of \"none\", \"eigen\", \"hypre\" (got \"amgx\")"));
+  EXPECT_EQ(p.size(), 10u);
+
+  // A threshold above the default full value (1.6 in 2D).
+  p = problems(path, {"fluid.surface_full=0", "fluid.surface_threshold=1.7"});
+  EXPECT_TRUE(
+      reports(p, path + ": fluid.surface_full: must be > surface_threshold (got 1.6 (default) <= 1.7)"));
+}
+
+TEST_F(CaseLoaderTest, PpeCombinations) {
+  const auto path = write("ppe.toml", kDamBreak + R"(
+[fluid.ppe]
+backend = "eigen"
+preconditioner = "boomeramg"
+fallback = "eigen"
+)");
+  auto p = problems(path);
+  EXPECT_TRUE(reports(p, path + ": fluid.ppe.preconditioner: \"boomeramg\" is not available with backend = "
+                                "\"eigen\"; must be one of \"ilu\", \"jacobi\", \"none\""));
+  EXPECT_TRUE(
+      reports(p, path + ": fluid.ppe.fallback: must differ from backend (both \"eigen\"), or be \"none\""));
+  EXPECT_EQ(p.size(), 2u);
+
+  p = problems(path, {"fluid.ppe.backend=hypre", "fluid.ppe.preconditioner=ilu", "fluid.ppe.fallback=none"});
+  EXPECT_EQ(p,
+            std::vector<std::string>{path + ": fluid.ppe.preconditioner: \"ilu\" is not available with "
+                                            "backend = \"hypre\"; must be one of \"boomeramg\", \"jacobi\", "
+                                            "\"none\""});
+  p = problems(path, {"fluid.ppe.preconditioner=amg"});
+  EXPECT_TRUE(reports(p, path + ": fluid.ppe.preconditioner: must be one of \"jacobi\", \"ilu\", \"none\", "
+                                "\"boomeramg\" (got \"amg\")"));
+
+  const CaseSpec c = load_case(path, {"fluid.ppe.backend=hypre", "fluid.ppe.preconditioner=jacobi"});
+  EXPECT_EQ(c.fluid.ppe.preconditioner, "jacobi");
+  EXPECT_EQ(c.fluid.ppe.fallback, "eigen");
+}
+
+TEST_F(CaseLoaderTest, ShiftingErrors) {
+  const auto path = write("shifting.toml", kDamBreak);
+  const auto p = problems(path, {"fluid.shifting.type=lind", "fluid.shifting.coefficient=0",
+                                 "fluid.shifting.max_fraction=-0.1", "fluid.shifting.taylor_correction=1"});
+  EXPECT_TRUE(
+      reports(p, path + ": fluid.shifting.type: must be one of \"none\", \"xu\", \"ops\" (got \"lind\")"));
+  EXPECT_TRUE(reports(p, path + ": fluid.shifting.coefficient: must be > 0 (got 0)"));
+  EXPECT_TRUE(reports(p, path + ": fluid.shifting.max_fraction: must be > 0 (got -0.1)"));
+  EXPECT_TRUE(reports(p, path + ": fluid.shifting.taylor_correction: expected a boolean, got an integer"));
+  EXPECT_EQ(p.size(), 4u);
+  EXPECT_TRUE(reports(problems(path, {"fluid.shifting.coefficient=1.5"}),
+                      path + ": fluid.shifting.coefficient: must be <= 1 (got 1.5)"));
+}
+
+TEST_F(CaseLoaderTest, PeriodicAxes) {
+  const auto path = write("periodic.toml", kDamBreak);
+  const CaseSpec c = load_case(path, {"periodic.x=[0,0.1]", "periodic.y=[-1, 1]"});
+  EXPECT_EQ(c.periodic.axis, (std::array<bool, 3>{true, true, false}));
+  EXPECT_EQ(c.periodic.lo, (std::array<double, 3>{0, -1, 0}));
+  EXPECT_EQ(c.periodic.hi, (std::array<double, 3>{0.1, 1, 0}));
+
+  const auto p = problems(path, {"periodic.x=[0.1,0.1]", "periodic.y=[0, 1, 2]", "periodic.z=[0, 1]"});
+  EXPECT_TRUE(reports(p, path + ": periodic.x: hi must be > lo (got [0.1, 0.1])"));
+  EXPECT_TRUE(reports(p, path + ": periodic.y: expected 2 numbers [lo, hi], got 3"));
+  EXPECT_TRUE(reports(p, path + ": periodic.z: only in 3D (dimension = 2)"));
+  EXPECT_EQ(p.size(), 3u);
+  EXPECT_TRUE(
+      reports(problems(path, {"periodic.x=[1,0]"}), path + ": periodic.x: hi must be > lo (got [1, 0])"));
+}
+
+TEST_F(CaseLoaderTest, FluidOverrides) {
+  const auto path = write("dam_break.toml", kDamBreak);
+  const CaseSpec c = load_case(
+      path, {"fluid.shifting.type=none", "fluid.ppe.backend=hypre", "materials.water.viscosity=1e-3",
+             "fluid.courant=0.25", "probes.front.point=[0,0.02]"});
+  EXPECT_EQ(c.fluid.shifting.type, "none");
+  EXPECT_EQ(c.fluid.ppe.backend, "hypre");
+  EXPECT_EQ(c.fluid.ppe.preconditioner, "boomeramg");
+  EXPECT_DOUBLE_EQ(c.materials[0].viscosity, 1e-3);
+  EXPECT_DOUBLE_EQ(c.fluid.courant, 0.25);
+  EXPECT_EQ(c.probes[1].point, (std::array<double, 3>{0, 0.02, 0}));
+}
+
+TEST_F(CaseLoaderTest, FluidResolvedTomlReloadsToTheSameCase) {
+  const auto path = write("dam_break.toml", kDamBreak);
+  const auto first = load_case(path, {"fluid.ppe.method=gmres", "periodic.x=[0,1]"});
+  const auto second = load_case(write("resolved.toml", first.resolved_toml));
+  EXPECT_EQ(second.name, "dam_break");
+  EXPECT_EQ(second.resolved_toml, first.resolved_toml);  // resolving is idempotent
+  EXPECT_FALSE(second.stages.structure);
+  EXPECT_TRUE(second.stages.fluid);
+  EXPECT_EQ(second.materials[0].model, "newtonian");
+  EXPECT_EQ(second.materials[0].viscosity, 1e-6);
+  EXPECT_EQ(second.fluid.shifting.type, "xu");
+  EXPECT_EQ(second.fluid.ppe.method, "gmres");
+  EXPECT_EQ(second.periodic.axis, first.periodic.axis);
+  EXPECT_EQ(second.periodic.hi, first.periodic.hi);
+  EXPECT_EQ(second.bodies[1].motion, "none");
+  EXPECT_EQ(second.probes[1].type, "front");
+  // Only the keys of each kind and model are written.
+  EXPECT_EQ(first.resolved_toml.find("youngs_modulus"), std::string::npos);
+  EXPECT_EQ(first.resolved_toml.find("clamps"), std::string::npos);
+  EXPECT_NE(first.resolved_toml.find("[fluid.ppe]"), std::string::npos);
+  EXPECT_NE(first.resolved_toml.find("x = [0.0, 1.0]"), std::string::npos);
+  EXPECT_EQ(first.resolved_toml.find("\ny = "), std::string::npos);
 }
 
 TEST(ShapeTest, RectangleContainsItsFaces) {

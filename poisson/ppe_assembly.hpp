@@ -1,0 +1,131 @@
+#pragma once
+// The pressure Poisson equation as a sparse matrix, one row per particle, assembled straight from
+// the CSR neighbour list (seed 001 Eqs. 14-16). Row a holds the diagonal first and then one entry
+// per neighbour, in neighbour-list order, so row_offset[a] = a + nbr_offset[a] and no counting pass
+// is needed. Entries are gathered: the loop writes only row a.
+//
+// Fluid row (Eq. 15, multiplied by -1 so that the diagonal is positive):
+//   sum_b c_ab (p_a - p_b) = -(1/dt) <div u*>_a,   c_ab = -2 V_b r_ab · (L_a grad W_ab) / (rho |r_ab|^2)
+// with L_a the gradient correction (the matrix is therefore not symmetric) and <div u*> the corrected
+// divergence (Eq. 3).
+//
+// Free-surface condition, blended by Skillen's coefficient alpha_a (Eq. 17). With the PPE row divided
+// by its diagonal, P_a(p) = 0, and a surface condition S_a(p) = 0, row a is
+//   alpha_a P_a(p) + (1 - alpha_a) S_a(p) = 0.
+// "zero":         S_a = p_a, the seed's Dirichlet condition; the blend is then exactly Eq. 16,
+//                 A_aa p_a + alpha_a sum_b A_ab p_b = alpha_a B_a.
+// "extrapolated": p = 0 half a particle spacing beyond the particle, where the fluid ends, imposed by
+//                 first-order extrapolation along the outward normal n_a (Eq. 25):
+//                 S_a = p_a + (dx/2) n_a · <grad p>_a,  <grad p>_a = L_a sum_b V_b (p_b - p_a) grad W_ab.
+//                 It removes the O(dx) offset that p_a = 0 gives the whole pressure field (rho g dx/2 in
+//                 still water), and as both P and S hold for a hydrostatic field, so does every blend
+//                 (with "zero", particles with 0 < alpha < 1, e.g. at the corner of a free surface and
+//                 a wall, get a pressure alpha times too small).
+// Splash particles (and surface particles without a normal) get p = 0.
+//
+// Wall row (a wall particle with fluid neighbours): the pressure extrapolation of Adami, Hu & Adams
+// (2012, J. Comput. Phys. 231:7057), solved together with the fluid rather than after it:
+//   sum_f W_wf (p_w - p_f) = rho sum_f W_wf (g - a_w) · (r_w - r_f),
+// divided by rho to give it the scale of the fluid rows. It imposes the pressure gradient
+// rho (g - a_w) of the momentum equation at a wall (exactly for a hydrostatic field), so fluid is kept
+// out of the wall by the projection. A wall particle without fluid neighbours, and the pinned particle
+// of a scene without any Dirichlet row (closed or periodic boxes, where p is fixed only up to a
+// constant), get p = 0.
+#include "poisson/free_surface.hpp"
+
+namespace isph {
+
+template <int D>
+struct PpeRowFill {
+  FluidView<D> v;
+  const Mat<D>* L;
+  const Real* alpha;
+  const Real* div_u_star;
+  Real density;
+  Real dt;
+  Vec<D> gravity;                // g - a_w (walls at constant velocity: a_w = 0)
+  const SurfaceClass* cls;
+  const Vec<D>* surface_normal;  // outward unit normal where alpha < 1 (zero if unknown)
+  bool extrapolate_surface;      // the "extrapolated" surface condition instead of "zero"
+  Index pinned;                  // particle with p = 0 imposed, or -1
+  int* col;
+  double* val;
+  double* rhs;
+
+  ISPH_HD void operator()(Index a) const {
+    const OperatorView<D>& op = v.op;
+    const Index begin = op.nbr_offset[a], end = op.nbr_offset[a + 1];
+    const Index row = a + begin;  // diagonal slot; neighbour k goes to row + 1 + (k - begin)
+    col[row] = a;
+    for (Index k = begin; k < end; ++k) {
+      col[row + 1 + (k - begin)] = op.nbr[k];
+      val[row + 1 + (k - begin)] = 0;
+    }
+    val[row] = 1;  // Dirichlet p = 0 unless a row below applies
+    rhs[a] = 0;
+    if (a == pinned || cls[a] == SurfaceClass::splash) return;
+    if (v.is_fluid(a))
+      fluid_row(a, begin, end, row);
+    else
+      wall_row(a, begin, end, row);
+  }
+
+  ISPH_HD void fluid_row(Index a, Index begin, Index end, Index row) const {
+    const OperatorView<D>& op = v.op;
+    const Mat<D> l = L[a];
+    const Real al = alpha[a];
+    const bool extrapolate = extrapolate_surface && al < 1 && norm2(surface_normal[a]) > 0;
+    if (al == 0 && !extrapolate) return;  // Dirichlet
+    Real diagonal = 0;
+    if (al > 0) {  // alpha P_a, P_a = the PPE row over its diagonal
+      for (Index k = begin; k < end; ++k) {
+        const Vec<D> r_ab = op.r(a, op.nbr[k]);
+        const Real r2 = norm2(r_ab);
+        const Real c = r2 > 0 ? -2 * op.volume[op.nbr[k]] * dot(r_ab, l * op.kernel.gradient(r_ab)) / (density * r2) : 0;
+        diagonal += c;
+        val[row + 1 + (k - begin)] = -c;
+      }
+      if (!(diagonal > 0)) {  // no usable Laplacian (degenerate neighbourhood): Dirichlet
+        for (Index k = begin; k < end; ++k) val[row + 1 + (k - begin)] = 0;
+        return;
+      }
+      for (Index k = begin; k < end; ++k) val[row + 1 + (k - begin)] *= al / diagonal;
+      val[row] = al;
+      rhs[a] = -al * div_u_star[a] / (dt * diagonal);
+    } else {
+      val[row] = 0;
+    }
+    if (extrapolate) {  // (1 - alpha) S_a
+      const Vec<D> ln = transpose(l) * surface_normal[a];  // n · (L g) = (L^T n) · g
+      const Real w = (1 - al) * 0.5 * v.dx;
+      val[row] += 1 - al;
+      for (Index k = begin; k < end; ++k) {
+        const Index b = op.nbr[k];
+        const Real c = w * op.volume[b] * dot(ln, op.kernel.gradient(op.r(a, b)));
+        val[row] -= c;
+        val[row + 1 + (k - begin)] += c;
+      }
+    } else if (al < 1) {  // (1 - alpha) p_a
+      val[row] += 1 - al;
+    }
+  }
+
+  ISPH_HD void wall_row(Index a, Index begin, Index end, Index row) const {
+    const OperatorView<D>& op = v.op;
+    Real diagonal = 0, b_a = 0;
+    for (Index k = begin; k < end; ++k) {
+      const Index b = op.nbr[k];
+      if (!v.is_fluid(b)) continue;
+      const Vec<D> r_ab = op.r(a, b);
+      const Real w = op.kernel.value(sqrt(norm2(r_ab))) / density;
+      diagonal += w;
+      b_a += w * density * dot(gravity, r_ab);
+      val[row + 1 + (k - begin)] = -w;
+    }
+    if (!(diagonal > 0)) return;  // no fluid neighbour: p = 0
+    val[row] = diagonal;
+    rhs[a] = b_a;
+  }
+};
+
+}  // namespace isph

@@ -1,0 +1,138 @@
+#pragma once
+// Particle loops of the ISPH predictor and projection (seed 001 Eqs. 10-13, 18-19). Each functor
+// writes only particle a and reads its neighbours; wall particles are skipped unless stated.
+#include "sim/fluid_view.hpp"
+
+namespace isph {
+
+// Corrected velocity gradient G_a = sum_b (u_b - u_a) ⊗ L_a V_b grad W_ab  (G_ij = du_i/dx_j, Eq. 2
+// per component), with walls seen through FluidView::velocity_seen (no_slip) or velocity_mirrored
+// (free slip). With `smagorinsky` > 0 it also
+// gives the sub-particle-scale eddy viscosity of Gotoh et al. (2001), seed Eq. 10:
+//   nu_t = (c_s h)^2 sqrt(2 S:S),  S = (G + G^T)/2.
+template <int D>
+struct VelocityGradient {
+  FluidView<D> v;
+  const Mat<D>* L;
+  const Vec<D>* u;
+  bool no_slip;
+  Real smagorinsky;  // c_s; 0: no eddy viscosity
+  Mat<D>* grad;
+  Real* eddy_viscosity;
+  ISPH_HD void operator()(Index a) const {
+    if (!v.is_fluid(a)) return;
+    const OperatorView<D>& op = v.op;
+    Mat<D> s = Mat<D>::zero();
+    for (Index k = op.nbr_offset[a]; k < op.nbr_offset[a + 1]; ++k) {
+      const Index b = op.nbr[k];
+      const Vec<D> ub = no_slip ? v.velocity_seen(a, b, u) : v.velocity_mirrored(a, b, u);
+      s = s + outer(ub - u[a], op.volume[b] * op.kernel.gradient(op.r(a, b)));
+    }
+    const Mat<D> g = s * transpose(L[a]);  // sum (u_b - u_a) ⊗ (L g_ab) = S L^T
+    grad[a] = g;
+    if (smagorinsky > 0) {
+      const Mat<D> strain = 0.5 * (g + transpose(g));
+      const Real filter = smagorinsky * op.kernel.h;
+      eddy_viscosity[a] = filter * filter * sqrt(2 * ddot(strain, strain));
+    }
+  }
+};
+
+// Intermediate velocity, Eqs. 12-13: u*_a = u_a + dt (g + lap_nu u_a), with the Fatehi-Manzari
+// renormalised Laplacian (kernels/operators.hpp) applied per component and the pair viscosity
+// nu_ab = (nu_a + nu_b)/2 (nu = laminar + eddy; the seed's mu_ab/rho_a for one density):
+//   lap_nu u_a = sum_b w_ab nu_ab ((u_a - u_b)/|r_ab| - (G_a r_ab)/|r_ab|),  w_ab = 2 e_ab · B^_a g_ab.
+// Wall particles get the intermediate velocity that the projection turns into their prescribed
+// velocity: u*_w = U_w + dt (g - a_w) (a_w = 0 for walls moving at constant velocity), consistent with
+// the wall pressure of PpeAssembly, so a fluid at rest stays at rest.
+template <int D>
+struct VelocityPredictor {
+  FluidView<D> v;
+  const Mat<D>* Bhat;
+  const Mat<D>* grad;
+  const Vec<D>* u;
+  const Real* eddy_viscosity;  // nullptr: laminar only
+  Real viscosity;
+  Vec<D> gravity;
+  Real dt;
+  Vec<D>* u_star;
+  ISPH_HD void operator()(Index a) const {
+    if (!v.is_fluid(a)) {
+      u_star[a] = v.wall_velocity[a] + dt * gravity;
+      return;
+    }
+    const OperatorView<D>& op = v.op;
+    const Real nu_a = viscosity + (eddy_viscosity ? eddy_viscosity[a] : 0);
+    Vec<D> lap = Vec<D>::zero();
+    for (Index k = op.nbr_offset[a]; k < op.nbr_offset[a + 1]; ++k) {
+      const Index b = op.nbr[k];
+      const Vec<D> r_ab = op.r(a, b);
+      const Real rho = sqrt(norm2(r_ab));
+      if (!(rho > 0)) continue;
+      const Real nu_b = viscosity + (eddy_viscosity && v.is_fluid(b) ? eddy_viscosity[b] : 0);
+      const Real w = 0.5 * (nu_a + nu_b) *
+                     laplacian_pair_weight(Bhat[a], r_ab, rho, op.volume[b] * op.kernel.gradient(r_ab));
+      lap += (w / rho) * (u[a] - v.velocity_seen(a, b, u) - grad[a] * r_ab);
+    }
+    u_star[a] = u[a] + dt * (gravity + lap);
+  }
+};
+
+// Projection, Eq. 18: u^{n+1}_a = u*_a - (dt/rho) <grad p>_a, with <grad p> the corrected gradient
+// (CorrectedGradient), followed by a kinematic impermeability condition: a fluid particle closer than
+// dx/2 to the surface of its nearest wall neighbour loses the velocity component (relative to the
+// wall) that carries it further in. The PPE keeps interior fluid out of walls through the wall
+// pressure, but free-surface particles (p = 0, alpha = 0: a thin front running along a floor) carry no
+// incompressibility constraint, and without this they can drift into the wall.
+template <int D>
+struct Project {
+  FluidView<D> v;
+  const Vec<D>* grad_p;
+  const Vec<D>* u_star;
+  Real density;
+  Real dt;
+  Vec<D>* u_new;
+  ISPH_HD void operator()(Index a) const {
+    if (!v.is_fluid(a)) return;
+    Vec<D> u = u_star[a] - (dt / density) * grad_p[a];
+    const OperatorView<D>& op = v.op;
+    Index wall = -1;
+    Real nearest = 1e300;
+    for (Index k = op.nbr_offset[a]; k < op.nbr_offset[a + 1]; ++k) {
+      const Index b = op.nbr[k];
+      const Real r2 = norm2(op.r(a, b));
+      if (!v.is_fluid(b) && r2 < nearest && norm2(v.wall_normal[b]) > 0) nearest = r2, wall = b;
+    }
+    if (wall >= 0) {
+      const Vec<D> n = v.wall_normal[wall];
+      const Real distance = dot(op.r(a, wall), n) - v.wall_depth[wall];
+      const Real approach = dot(u - v.wall_velocity[wall], n);
+      if (distance < 0.5 * v.dx && approach < 0) u = u - approach * n;
+    }
+    u_new[a] = u;
+  }
+};
+
+// Position update, Eq. 19: r^{n+1}_a = r^n_a + dt (u^n_a + u^{n+1}_a)/2 (u holds u^n on entry and
+// u^{n+1} on exit). Walls move with their prescribed velocity.
+template <int D>
+struct Advance {
+  const FluidKind* kind;
+  const Vec<D>* wall_velocity;
+  const Vec<D>* u_new;
+  const Vec<D>* x_old;
+  Real dt;
+  Periodicity<D> period;
+  Vec<D>* u;
+  Vec<D>* x;
+  ISPH_HD void operator()(Index a) const {
+    if (kind[a] != FluidKind::fluid) {
+      x[a] = period.wrap(x_old[a] + dt * wall_velocity[a]);
+      return;
+    }
+    x[a] = period.wrap(x_old[a] + (0.5 * dt) * (u[a] + u_new[a]));
+    u[a] = u_new[a];
+  }
+};
+
+}  // namespace isph

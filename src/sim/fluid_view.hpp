@@ -1,0 +1,76 @@
+#pragma once
+// The plain view of the fluid and wall particles that the ISPH functors read (seed 001 §2.1).
+// One particle set: fluid particles and wall particles, told apart by `kind`. Wall particles carry a
+// prescribed velocity and, from the set-up (sim/scene.cpp), the unit normal of the wall surface
+// nearest to them (pointing into the fluid) and their depth below that surface.
+#include "core/types.hpp"
+#include "kernels/operators.hpp"
+
+namespace isph {
+
+enum class FluidKind : unsigned char { fluid = 0, wall = 1 };
+
+// Free-surface classes of seed 001 Fig. 2.
+enum class SurfaceClass : unsigned char { interior = 0, near_surface = 1, surface = 2, splash = 3 };
+
+template <int D>
+struct FluidView {
+  OperatorView<D> op;            // positions, volumes, CSR neighbours, kernel, periodicity
+  const FluidKind* kind;
+  const Vec<D>* wall_velocity;   // prescribed velocity of wall particles
+  const Vec<D>* wall_normal;     // walls: unit normal of the nearest wall surface, into the fluid
+  const Real* wall_depth;        // walls: distance below that surface
+  Real dx;
+
+  ISPH_HD bool is_fluid(Index a) const { return kind[a] == FluidKind::fluid; }
+
+  // How much wall particle w stands in for fluid around fluid particle a, in [0, 1]: the presence of a
+  // fluid particle at w's mirror image across its wall surface, m = x_w + 2 d_w n_w, judged from a's
+  // fluid neighbours (m is always closer to a than w is). 1 when a fluid particle lies within dx/2 of m,
+  // 0 beyond dx, a cosine ramp between. A wet wall completes the kernel support of the fluid next to
+  // it; a dry wall (above a free surface) must not, or the fluid where a free surface meets a wall is
+  // not seen as a free surface.
+  ISPH_HD Real wall_wetness(Index a, Index w) const {
+    constexpr Real pi = 3.14159265358979323846;
+    const Vec<D> n = wall_normal[w];
+    if (!(norm2(n) > 0)) return 0;
+    const Vec<D> m = (2 * wall_depth[w]) * n - op.r(a, w);  // m - x_a
+    Real nearest2 = norm2(m);
+    for (Index k = op.nbr_offset[a]; k < op.nbr_offset[a + 1]; ++k) {
+      const Index b = op.nbr[k];
+      if (is_fluid(b)) nearest2 = fmin(nearest2, norm2(m + op.r(a, b)));
+    }
+    const Real q = sqrt(nearest2) / dx;
+    if (q <= 0.5) return 1;
+    if (q >= 1) return 0;
+    return 0.5 * (1 + cos(pi * (q - 0.5) / 0.5));
+  }
+
+  // Weight of neighbour b in the free-surface measures of fluid particle a (div r, grad Psi).
+  ISPH_HD Real surface_weight(Index a, Index b) const { return is_fluid(b) ? 1 : wall_wetness(a, b); }
+
+  // The velocity a fluid particle a sees at neighbour b. For a wall particle this is the no-slip
+  // extension of Morris et al. (1997, J. Comput. Phys. 136:214): u_b = U_w - (d_b / d_a)(u_a - U_w),
+  // with d_b the wall particle's depth and d_a the fluid particle's distance from the same wall
+  // surface (at least dx/2), which extends a velocity profile that is linear in the wall-normal
+  // distance and equals U_w on the wall exactly, so the viscous term of a linear shear is zero.
+  ISPH_HD Vec<D> velocity_seen(Index a, Index b, const Vec<D>* u) const {
+    if (is_fluid(b)) return u[b];
+    const Vec<D> uw = wall_velocity[b];
+    const Real da = fmax(dot(op.r(a, b), wall_normal[b]) - wall_depth[b], 0.5 * dx);
+    return uw - (wall_depth[b] / da) * (u[a] - uw);
+  }
+
+  // The free-slip (mirror) extension instead: the wall particle carries a's velocity relative to the
+  // wall with the wall-normal component reversed, so the extended field has no jump in the tangential
+  // velocity across the wall. Used where a smooth field is extrapolated (the Taylor correction after
+  // shifting), not where the wall's shear acts (the viscous term).
+  ISPH_HD Vec<D> velocity_mirrored(Index a, Index b, const Vec<D>* u) const {
+    if (is_fluid(b)) return u[b];
+    const Vec<D> n = wall_normal[b];
+    const Vec<D> rel = u[a] - wall_velocity[b];
+    return wall_velocity[b] + rel - (2 * dot(rel, n)) * n;
+  }
+};
+
+}  // namespace isph

@@ -1,0 +1,338 @@
+#include "sim/isph.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "poisson/ppe_assembly.hpp"
+#include "sim/fluid_functors.hpp"
+
+namespace isph {
+
+namespace {
+
+// Sorting particles by cell keeps neighbours close in memory; positions drift, so re-sort this often.
+constexpr long long kSortInterval = 20;
+
+SolverSettings solver_settings(const PpeSolverSpec& s, const std::string& backend) {
+  SolverSettings out;
+  out.backend = backend;
+  out.method = s.method;
+  out.preconditioner = s.preconditioner;
+  if (backend != s.backend)  // the fallback keeps the method and takes its backend's best preconditioner
+    out.preconditioner = backend == "hypre" ? "boomeramg" : "ilu";
+  out.tolerance = s.tolerance;
+  out.max_iterations = s.max_iterations;
+  return out;
+}
+
+template <class T>
+void permute(std::vector<T>& v, const std::vector<Index>& order) {
+  std::vector<T> copy(v);
+  for (std::size_t k = 0; k < order.size(); ++k) v[k] = copy[order[k]];
+}
+
+}  // namespace
+
+ShiftingType shifting_type_from_name(const std::string& name) {
+  if (name == "none") return ShiftingType::none;
+  if (name == "xu") return ShiftingType::xu;
+  if (name == "ops") return ShiftingType::ops;
+  throw std::invalid_argument("unknown shifting type '" + name + "' (none | xu | ops)");
+}
+
+template <int D>
+IsphSolver<D>::IsphSolver(FluidSetup<D> s)
+    : x_(std::move(s.x)),
+      u_(std::move(s.u)),
+      volume_(std::move(s.volume)),
+      wall_depth_(std::move(s.wall_depth)),
+      kind_(std::move(s.kind)),
+      wall_velocity_(std::move(s.wall_velocity)),
+      wall_normal_(std::move(s.wall_normal)),
+      id_(std::move(s.id)),
+      density_(s.density),
+      viscosity_(s.viscosity),
+      dx_(s.dx),
+      reference_velocity_(s.reference_velocity),
+      kernel_(s.kernel),
+      kernel_correction_(s.kernel_correction),
+      period_(s.period),
+      gravity_(s.gravity),
+      settings_(s.settings),
+      shifting_(shifting_type_from_name(s.settings.shifting.type)),
+      extrapolate_surface_(s.settings.surface_pressure == "extrapolated") {
+  const std::size_t n = x_.size();
+  p_.assign(n, 0);
+  fluid_count_ = static_cast<Index>(std::count(kind_.begin(), kind_.end(), FluidKind::fluid));
+  const Real full = D;  // div r in a full support
+  thresholds_.chi = settings_.surface_threshold > 0 ? settings_.surface_threshold : full - 0.6;
+  thresholds_.chi_full = settings_.surface_full > 0 ? settings_.surface_full : full - 0.4;
+  solver_ = make_linear_solver(solver_settings(settings_.ppe, settings_.ppe.backend));
+  if (settings_.ppe.fallback != "none")
+    fallback_ = make_linear_solver(solver_settings(settings_.ppe, settings_.ppe.fallback));
+  solver_name_ = solver_->name();
+  x_old_.resize(n);
+  u_star_.resize(n);
+  u_new_.resize(n);
+  grad_p_.resize(n);
+  surface_normal_.resize(n);
+  shift_.assign(n, Vec<D>::zero());
+  L_.assign(n, Mat<D>::identity());
+  Bhat_.assign(n, Mat<D>::identity());
+  grad_u_.assign(n, Mat<D>::zero());
+  div_r_.assign(n, D);
+  alpha_.assign(n, 1);
+  div_u_star_.assign(n, 0);
+  eddy_viscosity_.assign(n, 0);
+  detected_.assign(n, SurfaceClass::interior);
+  cls_.assign(n, SurfaceClass::interior);
+  rhs_.assign(n, 0);
+}
+
+template <int D>
+FluidView<D> IsphSolver<D>::view() const {
+  OperatorView<D> op{size(), x_.data(), volume_.data(), neighbours_.offset.data(), neighbours_.index.data(),
+                     kernel_, period_};
+  return {op, kind_.data(), wall_velocity_.data(), wall_normal_.data(), wall_depth_.data(), dx_};
+}
+
+template <int D>
+void IsphSolver<D>::sort_by_cell() {
+  const std::vector<Index> order = cells_.order();
+  permute(x_, order);
+  permute(u_, order);
+  permute(p_, order);
+  permute(volume_, order);
+  permute(wall_depth_, order);
+  permute(kind_, order);
+  permute(wall_velocity_, order);
+  permute(wall_normal_, order);
+  permute(id_, order);
+}
+
+template <int D>
+void IsphSolver<D>::find_neighbours() {
+  cells_.build(x_, kernel_.support(), period_);
+  if (steps_ % kSortInterval == 0) {
+    sort_by_cell();
+    cells_.build(x_, kernel_.support(), period_);
+  }
+  neighbours_ = neighbour_list(cells_, size());
+}
+
+// The assembled rows hold one slot per neighbour, many of them zero (wall-wall pairs, Dirichlet rows).
+// The solvers get the matrix without them and with sorted columns, which they need anyway.
+template <int D>
+void IsphSolver<D>::compress_matrix() {
+  const CsrMatrix& full = full_matrix_;
+  const Index n = full.rows;
+  matrix_.rows = n;
+  matrix_.row_offset.assign(n + 1, 0);
+  parallel_for(exec_, n, [&](Index a) {
+    int count = 0;
+    for (int k = full.row_offset[a]; k < full.row_offset[a + 1]; ++k) count += (full.val[k] != 0 || full.col[k] == a);
+    matrix_.row_offset[a + 1] = count;
+  });
+  for (Index a = 0; a < n; ++a) matrix_.row_offset[a + 1] += matrix_.row_offset[a];
+  matrix_.col.resize(matrix_.row_offset[n]);
+  matrix_.val.resize(matrix_.row_offset[n]);
+  parallel_for(exec_, n, [&](Index a) {
+    int out = matrix_.row_offset[a];
+    for (int k = full.row_offset[a]; k < full.row_offset[a + 1]; ++k) {
+      if (full.val[k] == 0 && full.col[k] != a) continue;
+      int slot = out++;  // insertion sort by column
+      while (slot > matrix_.row_offset[a] && matrix_.col[slot - 1] > full.col[k]) {
+        matrix_.col[slot] = matrix_.col[slot - 1];
+        matrix_.val[slot] = matrix_.val[slot - 1];
+        --slot;
+      }
+      matrix_.col[slot] = full.col[k];
+      matrix_.val[slot] = full.val[k];
+    }
+  });
+}
+
+template <int D>
+Real IsphSolver<D>::max_speed() const {
+  Real u2 = 0;
+  for (Index a = 0; a < size(); ++a)
+    if (kind_[a] == FluidKind::fluid) u2 = std::max(u2, norm2(u_[a]));
+  return std::sqrt(u2);
+}
+
+template <int D>
+Real IsphSolver<D>::time_step() const {
+  const Real h = kernel_.h;
+  const Real u = std::max(max_speed(), reference_velocity_);
+  Real dt = settings_.courant * h / u;  // Eq. 49
+  Real nu_max = viscosity_;
+  for (Index a = 0; a < size(); ++a) nu_max = std::max(nu_max, viscosity_ + eddy_viscosity_[a]);
+  if (nu_max > 0) dt = std::min(dt, settings_.viscous_number * h * h / nu_max);
+  if (settings_.max_dt > 0) dt = std::min(dt, settings_.max_dt);
+  return dt;
+}
+
+template <int D>
+FluidStepReport IsphSolver<D>::step(Real dt, PhaseTimer& timer) {
+  FluidStepReport report;
+  const Index n = size();
+  const bool sps = settings_.turbulence == "sps";
+
+  // Eq. 11: r* = r^n + dt u^n (walls move with their prescribed velocity). The neighbours are found
+  // at r*, where the particles may be re-sorted; r^n is then recovered as r* - dt u^n.
+  timer.time("neighbours", [&] {
+    auto drift = [&](Index a) { return dt * (kind_[a] == FluidKind::fluid ? u_[a] : wall_velocity_[a]); };
+    for (Index a = 0; a < n; ++a) x_[a] = period_.wrap(x_[a] + drift(a));
+    find_neighbours();
+    for (Index a = 0; a < n; ++a) x_old_[a] = x_[a] - drift(a);
+  });
+  const FluidView<D> v = view();
+
+  // Eqs. 10, 12-13: intermediate velocity at r* from gravity and viscosity.
+  timer.time("predictor", [&] {
+    if (kernel_correction_) {
+      parallel_for(exec_, n, GradientCorrection<D>{v.op, L_.data()});
+      parallel_for(exec_, n, LaplacianRenormalisation<D>{v.op, L_.data(), Bhat_.data()});
+    }
+    parallel_for(exec_, n, VelocityGradient<D>{v, L_.data(), u_.data(), true, sps ? settings_.smagorinsky : 0.0,
+                                               grad_u_.data(), eddy_viscosity_.data()});
+    parallel_for(exec_, n, VelocityPredictor<D>{v, Bhat_.data(), grad_u_.data(), u_.data(),
+                                                sps ? eddy_viscosity_.data() : nullptr, viscosity_, gravity_, dt,
+                                                u_star_.data()});
+  });
+
+  // Free surface (Fig. 2) and Skillen's coefficient (Eq. 17).
+  Index pinned = -1;
+  timer.time("free_surface", [&] {
+    parallel_for(exec_, n, SurfaceDetection<D>{v, thresholds_, settings_.free_surface, div_r_.data(),
+                                               detected_.data(), alpha_.data()});
+    parallel_for(exec_, n, NearSurfaceDetection<D>{v, detected_.data(), cls_.data()});
+    parallel_for(exec_, n, SurfaceNormal<D>{v, L_.data(), cls_.data(), alpha_.data(), surface_normal_.data()});
+    Index dirichlet = 0, first_fluid = -1;
+    for (Index a = 0; a < n; ++a) {
+      if (kind_[a] != FluidKind::fluid) continue;
+      if (first_fluid < 0 || id_[a] < id_[first_fluid]) first_fluid = a;
+      if (alpha_[a] == 0) ++dirichlet;
+      if (cls_[a] == SurfaceClass::surface) ++report.surface_particles;
+    }
+    if (dirichlet == 0) pinned = first_fluid;  // p is defined up to a constant: fix it at one particle
+  });
+
+  // Eqs. 14-16: assemble the PPE as CSR and solve it.
+  timer.time("ppe_assembly", [&] {
+    parallel_for(exec_, n, CorrectedDivergence<D>{v.op, L_.data(), u_star_.data(), div_u_star_.data()});
+    full_matrix_.rows = n;
+    full_matrix_.row_offset.resize(n + 1);
+    for (Index a = 0; a <= n; ++a) full_matrix_.row_offset[a] = a + neighbours_.offset[a];
+    full_matrix_.col.resize(full_matrix_.row_offset[n]);
+    full_matrix_.val.resize(full_matrix_.row_offset[n]);
+    parallel_for(exec_, n, PpeRowFill<D>{v, L_.data(), alpha_.data(), div_u_star_.data(), density_, dt, gravity_,
+                                         cls_.data(), surface_normal_.data(), extrapolate_surface_, pinned,
+                                         full_matrix_.col.data(), full_matrix_.val.data(), rhs_.data()});
+    compress_matrix();
+  });
+  timer.time("ppe_solve", [&] {
+    std::vector<double> p(p_.begin(), p_.end());  // warm start from the last pressure
+    report.ppe = solver_->solve(matrix_, rhs_, p);
+    report.ppe_solver = solver_->name();
+    if (!report.ppe.converged && fallback_) {
+      p.assign(p_.begin(), p_.end());
+      const SolveReport first = report.ppe;
+      report.ppe = fallback_->solve(matrix_, rhs_, p);
+      report.ppe_solver = fallback_->name();
+      if (!report.ppe.converged) report.ppe.iterations += first.iterations;
+    }
+    report.ppe_failed = !report.ppe.converged;
+    if (!report.ppe_failed) p_.assign(p.begin(), p.end());
+  });
+  if (report.ppe_failed) return report;
+
+  // Eqs. 18-19: projection and position update.
+  timer.time("projection", [&] {
+    parallel_for(exec_, n, CorrectedGradient<D>{v.op, L_.data(), p_.data(), grad_p_.data()});
+    parallel_for(exec_, n, Project<D>{v, grad_p_.data(), u_star_.data(), density_, dt, u_new_.data()});
+    parallel_for(exec_, n, Advance<D>{kind_.data(), wall_velocity_.data(), u_new_.data(), x_old_.data(), dt, period_,
+                                      u_.data(), x_.data()});
+  });
+
+  // Eqs. 20-26, 31-32: shifting at r^{n+1}, with the neighbour list, classes and surface normals of r*.
+  if (shifting_ != ShiftingType::none)
+    timer.time("shifting", [&] {
+      if (kernel_correction_) parallel_for(exec_, n, GradientCorrection<D>{v.op, L_.data()});
+      const Real zeta = max_speed() * dt;
+      parallel_for(exec_, n, ShiftDisplacement<D>{v, cls_.data(), surface_normal_.data(), shifting_,
+                                                  settings_.shifting.coefficient, zeta,
+                                                  settings_.shifting.max_fraction * kernel_.h, shift_.data()});
+      const bool taylor = settings_.shifting.taylor_correction;
+      if (taylor) {
+        parallel_for(exec_, n, VelocityGradient<D>{v, L_.data(), u_.data(), false, 0.0, grad_u_.data(), nullptr});
+        parallel_for(exec_, n, CorrectedGradient<D>{v.op, L_.data(), p_.data(), grad_p_.data()});
+      }
+      parallel_for(exec_, n, ApplyShift<D>{shift_.data(), grad_u_.data(), grad_p_.data(), taylor, period_, x_.data(),
+                                           u_.data(), p_.data()});
+    });
+  ++steps_;
+  return report;
+}
+
+template <int D>
+Real IsphSolver<D>::kinetic_energy() const {
+  Real e = 0;
+  for (Index a = 0; a < size(); ++a)
+    if (kind_[a] == FluidKind::fluid) e += 0.5 * density_ * volume_[a] * norm2(u_[a]);
+  return e;
+}
+
+template <int D>
+Real IsphSolver<D>::potential_energy() const {
+  Real e = 0;
+  for (Index a = 0; a < size(); ++a)
+    if (kind_[a] == FluidKind::fluid) e -= density_ * volume_[a] * dot(gravity_, x_[a]);
+  return e;
+}
+
+template <int D>
+Real IsphSolver<D>::interpolate_pressure(const Vec<D>& point) const {
+  Real num = 0, den = 0;
+  for (Index b = 0; b < size(); ++b) {
+    const Real w = volume_[b] * kernel_.value(std::sqrt(norm2(period_.delta(point, x_[b]))));
+    num += w * p_[b];
+    den += w;
+  }
+  return den > 0 ? num / den : 0;
+}
+
+template <int D>
+Vec<D> IsphSolver<D>::interpolate_velocity(const Vec<D>& point) const {
+  Vec<D> num = Vec<D>::zero();
+  Real den = 0;
+  for (Index b = 0; b < size(); ++b) {
+    if (kind_[b] != FluidKind::fluid) continue;
+    const Real w = volume_[b] * kernel_.value(std::sqrt(norm2(period_.delta(point, x_[b]))));
+    num += w * u_[b];
+    den += w;
+  }
+  return den > 0 ? (1.0 / den) * num : Vec<D>::zero();
+}
+
+template <int D>
+Real IsphSolver<D>::front(Real height) const {
+  Real best = -std::numeric_limits<Real>::infinity();
+  for (Index a = 0; a < size(); ++a)
+    if (kind_[a] == FluidKind::fluid && x_[a][D - 1] < height) best = std::max(best, x_[a][0]);
+  return best;
+}
+
+template <int D>
+Index IsphSolver<D>::first_non_finite() const {
+  for (Index a = 0; a < size(); ++a)
+    if (!std::isfinite(norm2(x_[a])) || !std::isfinite(norm2(u_[a])) || !std::isfinite(p_[a])) return a;
+  return -1;
+}
+
+template class IsphSolver<2>;
+template class IsphSolver<3>;
+
+}  // namespace isph

@@ -1,0 +1,125 @@
+#pragma once
+// The ISPH fluid solver: one projection step of seed 001 §2.1 (Algorithm 1, fluid part) over a
+// particle set of fluid and wall particles. The step reads like the algorithm; every particle loop
+// is a functor (sim/fluid_functors.hpp, poisson/, shifting/) run by the common launcher.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/neighbour_search.hpp"
+#include "io/case.hpp"
+#include "kernels/smoothing_kernel.hpp"
+#include "poisson/free_surface.hpp"
+#include "poisson/linear_solver.hpp"
+#include "shifting/particle_shifting.hpp"
+#include "sim/phase_timer.hpp"
+
+namespace isph {
+
+// Everything the solver needs, built by build_scene (sim/scene.cpp).
+template <int D>
+struct FluidSetup {
+  std::vector<Vec<D>> x, u;
+  std::vector<Real> volume;
+  std::vector<FluidKind> kind;
+  std::vector<Vec<D>> wall_velocity;  // prescribed velocity (walls), zero for fluid
+  std::vector<Vec<D>> wall_normal;    // walls: unit normal into the fluid (zero when deep inside)
+  std::vector<Real> wall_depth;       // walls: distance below the wall surface
+  std::vector<Index> id;              // stable id (output order)
+  Real density = 0;
+  Real viscosity = 0;                 // kinematic [m^2/s]
+  Real dx = 0;
+  SmoothingKernel<D> kernel;
+  bool kernel_correction = true;
+  Periodicity<D> period;
+  Vec<D> gravity = Vec<D>::zero();
+  Real reference_velocity = 0;        // floor on U in Eq. 49 (resolved from the case)
+  FluidSpec settings;
+};
+
+struct FluidStepReport {
+  SolveReport ppe;
+  std::string ppe_solver;  // the backend that produced the pressure
+  bool ppe_failed = false; // no backend converged
+  Index surface_particles = 0;
+};
+
+template <int D>
+class IsphSolver {
+ public:
+  explicit IsphSolver(FluidSetup<D> setup);
+
+  // Eq. 49 with the fluid's fastest particle (at least the reference velocity), the viscous limit
+  // viscous_number h^2 / nu_max, and max_dt.
+  Real time_step() const;
+
+  // One projection step of length dt: predictor, free surface, PPE, projection, shifting.
+  FluidStepReport step(Real dt, PhaseTimer& timer);
+
+  Index size() const { return static_cast<Index>(x_.size()); }
+  Index fluid_count() const { return fluid_count_; }
+  Index wall_count() const { return size() - fluid_count_; }
+  const std::vector<Vec<D>>& position() const { return x_; }
+  const std::vector<Vec<D>>& velocity() const { return u_; }
+  const std::vector<Real>& pressure() const { return p_; }
+  const std::vector<FluidKind>& kind() const { return kind_; }
+  const std::vector<Index>& id() const { return id_; }
+  const std::vector<SurfaceClass>& surface_class() const { return cls_; }
+  const std::vector<Real>& position_divergence() const { return div_r_; }
+  const std::vector<Vec<D>>& shift() const { return shift_; }
+  Real density() const { return density_; }
+  const std::string& ppe_solver_name() const { return solver_name_; }
+
+  Real kinetic_energy() const;
+  Real potential_energy() const;  // -sum m g · x
+  Real max_speed() const;         // fastest fluid particle
+  // Shepard (kernel-normalised) interpolation at a point: pressure over fluid and wall particles,
+  // velocity over fluid particles. Zero where no particle is in reach.
+  Real interpolate_pressure(const Vec<D>& point) const;
+  Vec<D> interpolate_velocity(const Vec<D>& point) const;
+  // Largest x of the fluid particles below `height` on the vertical axis (D - 1); -inf if none.
+  Real front(Real height) const;
+  // First fluid particle with a non-finite position, velocity or pressure, or -1.
+  Index first_non_finite() const;
+
+ private:
+  FluidView<D> view() const;
+  void find_neighbours();
+  void sort_by_cell();
+  void compress_matrix();
+
+  // particle state (permuted together by sort_by_cell)
+  std::vector<Vec<D>> x_, u_;
+  std::vector<Real> p_, volume_, wall_depth_;
+  std::vector<FluidKind> kind_;
+  std::vector<Vec<D>> wall_velocity_, wall_normal_;
+  std::vector<Index> id_;
+  // work arrays
+  std::vector<Vec<D>> x_old_, u_star_, u_new_, grad_p_, surface_normal_, shift_;
+  std::vector<Mat<D>> L_, Bhat_, grad_u_;
+  std::vector<Real> div_r_, alpha_, div_u_star_, eddy_viscosity_;
+  std::vector<SurfaceClass> detected_, cls_;
+  std::vector<double> rhs_;
+  CsrMatrix full_matrix_, matrix_;  // as assembled; without zeros, columns sorted
+  CellList<D> cells_;
+  NeighbourList neighbours_;
+
+  Index fluid_count_ = 0;
+  long long steps_ = 0;
+  Real density_, viscosity_, dx_, reference_velocity_;
+  SmoothingKernel<D> kernel_;
+  bool kernel_correction_;
+  Periodicity<D> period_;
+  Vec<D> gravity_;
+  FluidSpec settings_;
+  SurfaceThresholds thresholds_;
+  ShiftingType shifting_;
+  bool extrapolate_surface_;
+  std::unique_ptr<LinearSolver> solver_, fallback_;
+  std::string solver_name_;
+  Exec exec_{};
+};
+
+ShiftingType shifting_type_from_name(const std::string& name);
+
+}  // namespace isph
