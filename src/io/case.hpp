@@ -87,6 +87,7 @@ struct LoadSpec {
 //  "velocity":     fixed point; Shepard interpolation of the fluid velocity (fields ux, uy[, uz]).
 //  "front":        the largest x of the fluid particles below the height point[1] (field x): the surge
 //                  front of a dam break when point[1] is a little above the floor.
+//  "max_speed":    the speed of the fastest fluid particle (field u); no point.
 struct ProbeSpec {
   std::string name;
   std::string type = "displacement";

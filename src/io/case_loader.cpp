@@ -624,8 +624,8 @@ bool is_identifier(const std::string& s) {
 void read_fields(Table& t, ProbeSpec& p) {
   if (t.read("name", p.name, Need::required) && !is_identifier(p.name))
     t.problem("name", "must match [A-Za-z0-9_]+ (got " + quote(p.name) + ")");
-  read_choice(t, "type", p.type, {"displacement", "pressure", "velocity", "front"});
-  t.read("point", p.point, Need::required);
+  read_choice(t, "type", p.type, {"displacement", "pressure", "velocity", "front", "max_speed"});
+  t.read("point", p.point, p.type == "max_speed" ? Need::optional : Need::required);
 }
 
 void read_dimension(Table& t, CaseSpec& c) {

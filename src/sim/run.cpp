@@ -331,6 +331,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   for (const auto& p : scene.fluid_probes) {
     if (p.type == "pressure") columns.push_back(p.name + ".p");
     if (p.type == "front") columns.push_back(p.name + ".x");
+    if (p.type == "max_speed") columns.push_back(p.name + ".u");
     if (p.type == "velocity")
       for (int d = 0; d < D; ++d) columns.push_back(p.name + "." + kComponents[d]);
   }
@@ -346,6 +347,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
       for (const auto& p : scene.fluid_probes) {
         if (p.type == "pressure") row.push_back(solver.interpolate_pressure(p.point));
         if (p.type == "front") row.push_back(solver.front(p.point[D - 1]));
+        if (p.type == "max_speed") row.push_back(solver.max_speed());
         if (p.type == "velocity") {
           const Vec<D> u = solver.interpolate_velocity(p.point);
           for (int d = 0; d < D; ++d) row.push_back(u[d]);

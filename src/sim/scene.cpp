@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "core/neighbour_search.hpp"
@@ -190,6 +191,49 @@ void wall_surface_geometry(FluidSetup<D>& f, Real dx, Real support, const Period
   }
 }
 
+// Every wall must be thick enough to fill the kernel support of the fluid beside it: behind each
+// particle of a wall's first layer there must be wall particles down to a depth of 2h.
+template <int D>
+void check_wall_thickness(const FluidSetup<D>& f, Real dx, Real support, const Periodicity<D>& period,
+                          const std::string& file, std::vector<std::string>& problems) {
+  const Index n = static_cast<Index>(f.x.size());
+  std::vector<Vec<D>> walls;
+  for (Index a = 0; a < n; ++a)
+    if (f.kind[a] == FluidKind::wall) walls.push_back(f.x[a]);
+  if (walls.empty()) return;
+  const Index layers_needed = static_cast<Index>(std::ceil(support / dx - 1e-9));  // for fluid right at the wall
+  Index thin = 0;
+  Vec<D> example = Vec<D>::zero();
+  const NeighbourList nl = build_neighbour_list<D>(walls, support, nullptr, period);
+  Index w = 0;
+  for (Index a = 0; a < n; ++a) {
+    if (f.kind[a] != FluidKind::wall) continue;
+    const Index self = w++;
+    const Vec<D> nrm = f.wall_normal[a];
+    if (!(norm2(nrm) > 0) || f.wall_depth[a] > 0.75 * dx) continue;  // not on the first layer
+    // the deepest wall particle straight behind (within dx/2 of the inward line)
+    Real deepest = 0;
+    for (Index k = nl.offset[self]; k < nl.offset[self + 1]; ++k) {
+      const Vec<D> r = period.delta(walls[nl.index[k]], walls[self]);
+      const Real along = -dot(r, nrm);
+      if (norm2(r - (-along) * nrm) < 0.25 * dx * dx) deepest = std::max(deepest, along);
+    }
+    if (deepest < (layers_needed - 1) * dx - 0.25 * dx) {
+      if (thin == 0) example = walls[self];
+      ++thin;
+    }
+  }
+  if (thin > 0) {
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  "%s: bodies: %d wall particles (e.g. at (%g, %g)) have fewer than %d wall layers behind them; walls "
+                  "must be at least %d particles (%g m) thick at dx = %g to fill the kernel support (2h = %g m)",
+                  file.c_str(), thin, example[0], example[1], layers_needed, layers_needed, layers_needed * dx, dx,
+                  support);
+    problems.push_back(buf);
+  }
+}
+
 // Checks the fluid set-up and completes it: material, overlaps, containment, wall geometry, the
 // reference velocity of Eq. 49 and the fluid probes.
 template <int D>
@@ -279,6 +323,7 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, std::
   }
 
   wall_surface_geometry(f, dx, f.kernel.support(), period);
+  check_wall_thickness(f, dx, f.kernel.support(), period, file, problems);
 
   // Reference velocity of Eq. 49: free fall over the fluid's height, or the fastest wall.
   Real fluid_lo = std::numeric_limits<Real>::max(), fluid_hi = -fluid_lo, wall_speed = 0;
@@ -313,7 +358,7 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, std::
     const ProbeSpec& p = spec.probes[pi];
     if (p.type == "displacement") continue;
     const Vec<D> point = to_vec<D>(p.point);
-    if (p.type != "front") {
+    if (p.type == "pressure" || p.type == "velocity") {
       Real nearest = std::numeric_limits<Real>::max();
       for (Index a = 0; a < n; ++a) nearest = std::min(nearest, norm2(period.delta(point, f.x[a])));
       if (std::sqrt(nearest) > f.kernel.support())

@@ -1,0 +1,67 @@
+#pragma once
+// What the regression tests share: running the `isph` command and reading its output files.
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace regression {
+
+inline const std::string kCases = std::string(ISPH_SOURCE_DIR) + "/cases/";
+
+struct CommandResult {
+  int status;
+  std::string output;  // stdout and stderr
+};
+
+// Runs the isph command. Runs use one thread: ctest runs tests side by side, and OpenMP threads
+// on oversubscribed cores slow a run down many times over.
+inline CommandResult isph(const std::string& args) {
+  const bool run = args.rfind("run ", 0) == 0;
+  const std::string cmd = std::string(ISPH_BINARY) + " " + args + (run ? " --threads 1" : "") + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[4096];
+  while (pipe && fgets(buf, sizeof buf, pipe)) out += buf;
+  const int rc = pipe ? pclose(pipe) : -1;
+  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, out};
+}
+
+inline fs::path fresh_dir(const std::string& name) {
+  const fs::path p = fs::temp_directory_path() / ("isph_regression_" + name);
+  fs::remove_all(p);
+  return p;
+}
+
+// A CSV with a header, as columns by name.
+inline std::map<std::string, std::vector<double>> read_csv(const fs::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  std::stringstream header(line);
+  for (std::string c; std::getline(header, c, ',');) names.push_back(c);
+  std::map<std::string, std::vector<double>> cols;
+  while (std::getline(in, line)) {
+    std::stringstream row(line);
+    std::size_t k = 0;
+    for (std::string c; std::getline(row, c, ',') && k < names.size(); ++k) cols[names[k]].push_back(std::stod(c));
+  }
+  return cols;
+}
+
+inline std::string read_file(const fs::path& file) {
+  std::ifstream in(file);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+}  // namespace regression
+
+using namespace regression;  // NOLINT: the tests use these names plainly

@@ -1,0 +1,167 @@
+// Short, deterministic runs of the bundled fluid cases through the `isph` command, at coarse
+// resolution, asserting physics: hydrostatic pressure, the dam-break surge front against
+// experiment and theory, and start-up Couette flow against its series solution. Seconds each.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "run_support.hpp"
+
+namespace {
+
+double mean_over(const std::vector<double>& t, const std::vector<double>& v, double from, double* stddev = nullptr) {
+  double s = 0, s2 = 0;
+  int n = 0;
+  for (std::size_t k = 0; k < t.size(); ++k)
+    if (t[k] >= from) s += v[k], s2 += v[k] * v[k], ++n;
+  const double m = s / n;
+  if (stddev) *stddev = std::sqrt(std::max(0.0, s2 / n - m * m));
+  return m;
+}
+
+double interpolate(const std::vector<double>& x, const std::vector<double>& y, double at) {
+  for (std::size_t k = 1; k < x.size(); ++k)
+    if (x[k] >= at) return y[k - 1] + (y[k] - y[k - 1]) * (at - x[k - 1]) / (x[k] - x[k - 1]);
+  return y.back();
+}
+
+// Two columns of a whitespace table with '#' comments.
+std::vector<std::array<double, 2>> read_table(const fs::path& file) {
+  std::ifstream in(file);
+  std::vector<std::array<double, 2>> rows;
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream s(line);
+    std::array<double, 2> r{};
+    if (s >> r[0] >> r[1]) rows.push_back(r);
+  }
+  return rows;
+}
+
+}  // namespace
+
+// Still water, H/dx = 20 (walls thickened to three layers), 2 s: the bottom pressure is rho g H within
+// 1 %, steady within 1 %, and the water stays still (fastest particle below 1 % of sqrt(g H)) after
+// the first second.
+TEST(HydrostaticTank, CoarseStillWater) {
+  const fs::path out = fresh_dir("hydrostatic");
+  const std::string walls =
+      " --set 'bodies.floor.shape={type=\"rectangle\",min=[-0.15,-0.15],max=[1.15,0.0]}'"
+      " --set 'bodies.left_wall.shape={type=\"rectangle\",min=[-0.15,0.0],max=[0.0,1.2]}'"
+      " --set 'bodies.right_wall.shape={type=\"rectangle\",min=[1.0,0.0],max=[1.15,1.2]}'";
+  const auto r = isph("run " + kCases + "hydrostatic_tank.toml --quiet --out " + out.string() +
+                      " --set dx=0.05 --set end_time=2 --set output.snapshots=false" + walls);
+  ASSERT_EQ(r.status, 0) << r.output;
+  auto p = read_csv(out / "probes.csv");
+  const double rho_g_h = 1000 * 9.81 * 1.0;
+  double sd = 0;
+  const double mean = mean_over(p["time"], p["bottom.p"], 1.0, &sd);
+  EXPECT_NEAR(mean, 1000 * 9.81 * (1.0 - 0.001), 0.01 * rho_g_h);  // probe 1 mm above the floor
+  EXPECT_LT(sd, 0.01 * rho_g_h);
+  double fastest = 0;
+  for (std::size_t k = 0; k < p["time"].size(); ++k)
+    if (p["time"][k] >= 1.0) fastest = std::max(fastest, p["fastest.u"][k]);
+  EXPECT_LT(fastest, 0.01 * std::sqrt(9.81 * 1.0));
+}
+
+// Dam break, a/dx = 20 (walls thickened to three layers), to t sqrt(g/a) = 2, before the impact.
+// The surge front Z = x/a against T = t sqrt(2g/a) must lie between the Martin & Moyce experiment
+// (friction and the gate make the experiment the slow bound; 0.1 allowed for its scatter) and
+// Ritter's dry-bed shallow-water front Z = 1 + 2T (the inviscid upper bound), and follow Koshizuka &
+// Oka's MPS simulation of the same set-up (RMSE of Z below 0.2).
+TEST(DamBreak, CoarseSurgeFront) {
+  const fs::path out = fresh_dir("dam_break");
+  const std::string walls =
+      " --set 'bodies.floor.shape={type=\"rectangle\",min=[-0.0219,-0.0219],max=[0.6059,0.0]}'"
+      " --set 'bodies.left_wall.shape={type=\"rectangle\",min=[-0.0219,0.0],max=[0.0,0.584]}'"
+      " --set 'bodies.right_wall.shape={type=\"rectangle\",min=[0.584,0.0],max=[0.6059,0.584]}'";
+  const double a = 0.146, g = 9.81, dx = 0.0073;
+  const auto r = isph("run " + kCases + "dam_break.toml --quiet --out " + out.string() + " --set dx=" +
+                      std::to_string(dx) + " --set end_time=0.2441 --set output.snapshots=false" + walls);
+  ASSERT_EQ(r.status, 0) << r.output;  // completed: no blow-up, no particle escaped
+  auto p = read_csv(out / "probes.csv");
+  std::vector<double> T, Z;
+  for (std::size_t k = 0; k < p["time"].size(); ++k) {
+    T.push_back(p["time"][k] * std::sqrt(2 * g / a));
+    Z.push_back((p["front.x"][k] + 0.5 * dx) / a);  // the fluid ends half a spacing beyond the last centre
+  }
+  const std::string ref = std::string(ISPH_REFERENCE_DIR) + "/dam_break_2d/pysph/pysph_db_exp_data_";
+  int checked = 0;
+  for (const auto& [t, z] : read_table(ref + "mm_data_2.txt")) {
+    if (t > T.back()) break;
+    const double zs = interpolate(T, Z, t);
+    EXPECT_GT(zs, z - 0.1) << "T = " << t;
+    EXPECT_LT(zs, 1 + 2 * t) << "T = " << t;
+    ++checked;
+  }
+  EXPECT_GE(checked, 3);
+  double sum2 = 0;
+  int n = 0;
+  for (const auto& [t, z] : read_table(ref + "ko_mps_data.txt")) {
+    if (t > T.back()) break;
+    sum2 += std::pow(interpolate(T, Z, t) - z, 2), ++n;
+  }
+  ASSERT_GT(n, 5);
+  EXPECT_LT(std::sqrt(sum2 / n), 0.2);
+}
+
+// Start-up Couette flow, H/dx = 10, to t = 0.3 s (t nu/H^2 = 0.3): the velocity at mid-height and at a
+// quarter of the height within 1 % of U of the series solution.
+TEST(Couette, CoarseStartUpProfile) {
+  const fs::path out = fresh_dir("couette");
+  const auto r = isph("run " + kCases + "couette.toml --quiet --out " + out.string() +
+                      " --set dx=1e-4 --set end_time=0.3 --set output.snapshots=false");
+  ASSERT_EQ(r.status, 0) << r.output;
+  auto p = read_csv(out / "probes.csv");
+  const double H = 1e-3, U = 1.25e-5, nu = 1e-6, pi = 3.14159265358979323846;
+  auto series = [&](double y, double t) {
+    double u = U * y / H;
+    for (int n = 1; n < 200; ++n)
+      u += 2 * U / (n * pi) * (n % 2 ? -1 : 1) * std::sin(n * pi * y / H) * std::exp(-nu * n * n * pi * pi * t / (H * H));
+    return u;
+  };
+  int checked = 0;
+  for (std::size_t k = 0; k < p["time"].size(); ++k) {
+    const double t = p["time"][k];
+    if (t < 0.05) continue;
+    EXPECT_NEAR(p["mid.ux"][k], series(0.5 * H, t), 0.01 * U) << "t = " << t;
+    EXPECT_NEAR(p["quarter.ux"][k], series(0.25 * H, t), 0.01 * U) << "t = " << t;
+    ++checked;
+  }
+  EXPECT_GT(checked, 10);
+}
+
+// Bad fluid input: one clear message each, and a non-zero exit.
+TEST(BadFluidInput, ClearErrors) {
+  const std::string tank = kCases + "hydrostatic_tank.toml";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"check " + tank + " --set 'bodies.water.shape={type=\"rectangle\",min=[-0.05,0.0],max=[1.0,1.0]}'",
+       "must not overlap"},
+      {"check " + tank + " --set 'bodies.water.shape={type=\"rectangle\",min=[0.0,0.0],max=[1.5,1.0]}'",
+       "outside every wall"},
+      {"check " + tank + " --set materials.water.viscosity=0", "viscosity"},
+      {"check " + tank + " --set materials.water.density=-1", "density"},
+      {"check " + tank + " --set fluid.ppe.backend=petsc", "backend"},
+      {"check " + tank + " --set dx=0.05", "thick"},
+  };
+  for (const auto& [args, expected] : cases) {
+    const auto r = isph(args);
+    EXPECT_NE(r.status, 0) << args;
+    EXPECT_NE(r.output.find(expected), std::string::npos) << args << "\n" << r.output;
+  }
+}
+
+// A PPE that cannot be solved stops the run with status diverged, the residual and the iterations.
+TEST(BadFluidInput, FailedPressureSolveStopsTheRun) {
+  const fs::path out = fresh_dir("ppe_failure");
+  const auto r = isph("run " + kCases + "hydrostatic_tank.toml --quiet --out " + out.string() +
+                      " --set end_time=0.01 --set fluid.ppe.max_iterations=1 --set fluid.ppe.tolerance=1e-14"
+                      " --set fluid.ppe.preconditioner=none --set output.snapshots=false");
+  EXPECT_EQ(r.status, 3) << r.output;
+  const std::string s = read_file(out / "summary.json");
+  EXPECT_NE(s.find("\"status\": \"diverged\""), std::string::npos) << s;
+  EXPECT_NE(s.find("relative residual"), std::string::npos) << s;
+  EXPECT_NE(s.find("iterations"), std::string::npos) << s;
+  EXPECT_NE(s.find("\"failures\": 1"), std::string::npos) << s;
+}
