@@ -11,6 +11,7 @@
 
 #include "io/case_loader.hpp"
 #include "poisson/ppe_assembly.hpp"
+#include "sim/fluid_functors.hpp"
 #include "sim/scene.hpp"
 
 using namespace isph;
@@ -240,5 +241,35 @@ TEST(PpeAssembly, MatchesDenseAssembly) {
   for (Index a = 0; a < n; ++a) {
     for (Index b = 0; b < n; ++b) ASSERT_NEAR(csr[a][b], dense[a][b], 1e-12 * scale) << "entry " << a << ", " << b;
     ASSERT_NEAR(rhs[a], dense_rhs[a], 1e-9 * std::max(1.0, std::abs(dense_rhs[a]))) << "row " << a;
+  }
+}
+
+// Eq. 10 on a simple shear u = (gamma y, 0): S:S = gamma^2 / 2, so nu_t = (c_s h)^2 gamma, and the
+// corrected gradient is exact (du/dy = gamma) on an irregular set.
+TEST(EddyViscosity, SimpleShear) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<Real> jitter(-0.2, 0.2);
+  const Real dx = 0.1, gamma = 3.0, cs = 0.1;
+  std::vector<Vec<2>> x, u;
+  for (int i = 0; i < 12; ++i)
+    for (int j = 0; j < 12; ++j) {
+      x.push_back(Vec<2>{{(i + jitter(rng)) * dx, (j + jitter(rng)) * dx}});
+      u.push_back(Vec<2>{{gamma * x.back()[1], 0.0}});
+    }
+  const Index n = static_cast<Index>(x.size());
+  std::vector<Real> volume(n, dx * dx), depth(n, 0), nu_t(n, 0);
+  std::vector<FluidKind> kind(n, FluidKind::fluid);
+  std::vector<Vec<2>> zero(n, Vec<2>::zero());
+  const auto kernel = SmoothingKernel<2>::make(KernelType::cubic_spline, 1.2 * dx);
+  const NeighbourList nl = build_neighbour_list<2>(x, kernel.support());
+  const OperatorView<2> op{n, x.data(), volume.data(), nl.offset.data(), nl.index.data(), kernel};
+  std::vector<Mat<2>> L(n), G(n);
+  parallel_for(Exec{}, n, GradientCorrection<2>{op, L.data()});
+  const FluidView<2> view{op, kind.data(), zero.data(), zero.data(), depth.data(), dx};
+  parallel_for(Exec{}, n, VelocityGradient<2>{view, L.data(), u.data(), true, cs, G.data(), nu_t.data()});
+  for (Index a = 0; a < n; ++a) {
+    ASSERT_NEAR(G[a](0, 1), gamma, 1e-9);
+    ASSERT_NEAR(G[a](0, 0), 0.0, 1e-9);
+    ASSERT_NEAR(nu_t[a], cs * cs * kernel.h * kernel.h * gamma, 1e-12);
   }
 }
