@@ -128,4 +128,43 @@ struct PpeRowFill {
   }
 };
 
+// The assembled rows keep a slot per neighbour, many of them zero (wall-wall pairs, Dirichlet rows).
+// The solvers get the matrix without them and with sorted columns, which they need anyway:
+// CountRowEntries gives each row's length, CompactRow copies the entries (insertion sort by column).
+struct CountRowEntries {
+  const int* row_offset;
+  const int* col;
+  const double* val;
+  int* count;  // count[a] = entries kept in row a
+  ISPH_HD void operator()(Index a) const {
+    int n = 0;
+    for (int k = row_offset[a]; k < row_offset[a + 1]; ++k) n += (val[k] != 0 || col[k] == a);
+    count[a] = n;
+  }
+};
+
+struct CompactRow {
+  const int* row_offset;
+  const int* col;
+  const double* val;
+  const int* out_offset;
+  int* out_col;
+  double* out_val;
+  ISPH_HD void operator()(Index a) const {
+    const int first = out_offset[a];
+    int end = first;
+    for (int k = row_offset[a]; k < row_offset[a + 1]; ++k) {
+      if (val[k] == 0 && col[k] != a) continue;
+      int slot = end++;
+      while (slot > first && out_col[slot - 1] > col[k]) {
+        out_col[slot] = out_col[slot - 1];
+        out_val[slot] = out_val[slot - 1];
+        --slot;
+      }
+      out_col[slot] = col[k];
+      out_val[slot] = val[k];
+    }
+  }
+};
+
 }  // namespace isph

@@ -122,36 +122,19 @@ void IsphSolver<D>::find_neighbours() {
   neighbours_ = neighbour_list(cells_, size());
 }
 
-// The assembled rows hold one slot per neighbour, many of them zero (wall-wall pairs, Dirichlet rows).
-// The solvers get the matrix without them and with sorted columns, which they need anyway.
 template <int D>
 void IsphSolver<D>::compress_matrix() {
   const CsrMatrix& full = full_matrix_;
   const Index n = full.rows;
   matrix_.rows = n;
   matrix_.row_offset.assign(n + 1, 0);
-  parallel_for(exec_, n, [&](Index a) {
-    int count = 0;
-    for (int k = full.row_offset[a]; k < full.row_offset[a + 1]; ++k) count += (full.val[k] != 0 || full.col[k] == a);
-    matrix_.row_offset[a + 1] = count;
-  });
+  parallel_for(exec_, n, CountRowEntries{full.row_offset.data(), full.col.data(), full.val.data(),
+                                         matrix_.row_offset.data() + 1});
   for (Index a = 0; a < n; ++a) matrix_.row_offset[a + 1] += matrix_.row_offset[a];
   matrix_.col.resize(matrix_.row_offset[n]);
   matrix_.val.resize(matrix_.row_offset[n]);
-  parallel_for(exec_, n, [&](Index a) {
-    int out = matrix_.row_offset[a];
-    for (int k = full.row_offset[a]; k < full.row_offset[a + 1]; ++k) {
-      if (full.val[k] == 0 && full.col[k] != a) continue;
-      int slot = out++;  // insertion sort by column
-      while (slot > matrix_.row_offset[a] && matrix_.col[slot - 1] > full.col[k]) {
-        matrix_.col[slot] = matrix_.col[slot - 1];
-        matrix_.val[slot] = matrix_.val[slot - 1];
-        --slot;
-      }
-      matrix_.col[slot] = full.col[k];
-      matrix_.val[slot] = full.val[k];
-    }
-  });
+  parallel_for(exec_, n, CompactRow{full.row_offset.data(), full.col.data(), full.val.data(),
+                                    matrix_.row_offset.data(), matrix_.col.data(), matrix_.val.data()});
 }
 
 template <int D>
