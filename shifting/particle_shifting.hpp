@@ -9,8 +9,9 @@
 //       n_a = -grad Psi_a / |grad Psi_a|,  grad Psi_a = L_a sum_b V_b grad W_ab                  (25-26)
 //       (wall particles weighted by their wetness, as in the free-surface detection)
 //       (near-surface particles take the normal of their nearest surface neighbour).
-//  Splash particles and walls are not shifted. After the shift, velocity and pressure are carried
-//  to the new position by first-order Taylor series (Eqs. 20, 31-32):
+//  Splash particles and walls are not shifted. After the shift, velocity and pressure of the
+//  particles with a full support (not surface particles, see ApplyShift) are carried to the new
+//  position by first-order Taylor series (Eqs. 20, 31-32):
 //       u_a <- u_a + G_a dr_a,   p_a <- p_a + <grad p>_a · dr_a,
 //  with G_a from the free-slip extension of the velocity into walls (FluidView::velocity_mirrored):
 //  the no-slip jump across an unresolved boundary layer is not a field a Taylor series may extend.
@@ -94,9 +95,13 @@ struct ShiftDisplacement {
   }
 };
 
-// Pass 3: move by the shift and correct u and p by Taylor series (Eqs. 20, 31-32).
+// Pass 3: move by the shift and correct u and p by Taylor series (Eqs. 20, 31-32). Free-surface
+// particles are moved but not corrected: their gradients come from half a kernel support (and from
+// thin sheets and jets at that), and a first-order Taylor step with such a gradient can throw a
+// particle off as spray; OPS moves them only along the surface, where u and p vary least.
 template <int D>
 struct ApplyShift {
+  const SurfaceClass* cls;
   const Vec<D>* shift;
   const Mat<D>* grad_u;
   const Vec<D>* grad_p;
@@ -109,7 +114,7 @@ struct ApplyShift {
     const Vec<D> dr = shift[a];
     if (norm2(dr) == 0) return;
     x[a] = period.wrap(x[a] + dr);
-    if (!taylor_correction) return;
+    if (!taylor_correction || cls[a] == SurfaceClass::surface) return;
     u[a] += grad_u[a] * dr;
     p[a] += dot(grad_p[a], dr);
   }

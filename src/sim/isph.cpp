@@ -253,7 +253,7 @@ FluidStepReport IsphSolver<D>::step(Real dt, PhaseTimer& timer) {
         parallel_for(exec_, n, VelocityGradient<D>{v, L_.data(), u_.data(), false, 0.0, grad_u_.data(), nullptr});
         parallel_for(exec_, n, CorrectedGradient<D>{v.op, L_.data(), p_.data(), grad_p_.data()});
       }
-      parallel_for(exec_, n, ApplyShift<D>{shift_.data(), grad_u_.data(), grad_p_.data(), taylor, period_, x_.data(),
+      parallel_for(exec_, n, ApplyShift<D>{cls_.data(), shift_.data(), grad_u_.data(), grad_p_.data(), taylor, period_, x_.data(),
                                            u_.data(), p_.data()});
     });
   ++steps_;

@@ -369,12 +369,13 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   if (frame.writes_snapshots()) snapshot(0);
   long long step = 0, iterations = 0, max_iterations = 0, failures = 0;
   double worst_residual = 0;
-  Real t = 0;
+  Real t = 0, first_dt = 0;
   const Real eps = 1e-12 * spec.end_time;
   while (t < spec.end_time - eps) {
     // Land on end_time without a sliver of a step (the PPE's source div u*/dt is sensitive to tiny dt):
     // the last two steps share what is left.
     Real dt = solver.time_step();
+    if (step == 0) first_dt = dt;
     const Real left = spec.end_time - t;
     if (dt >= left - eps) dt = left;
     else if (2 * dt > left) dt = 0.5 * left;
@@ -397,6 +398,12 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
     } else if (const Index bad = solver.first_non_finite(); bad >= 0) {
       std::snprintf(buf, sizeof buf, "fluid particle id %d became non-finite at t = %.6g s (step %lld)",
                     solver.id()[bad], t, step);
+      frame.diverge(buf);
+    } else if (dt < 1e-3 * first_dt && dt < left) {
+      std::snprintf(buf, sizeof buf,
+                    "the time step collapsed to %.3g s (%.3g of the first) at t = %.6g s (step %lld): a fluid particle "
+                    "reached %.4g m/s",
+                    dt, dt / first_dt, t, step, solver.max_speed());
       frame.diverge(buf);
     } else if (const Index out = find_escape(solver, scene); out >= 0) {
       std::snprintf(buf, sizeof buf, "fluid particle id %d escaped the tank at t = %.6g s (step %lld), at (%g, %g)",
