@@ -201,7 +201,7 @@ TEST(PpeAssembly, MatchesDenseAssembly) {
       for (Index b = 0; b < n; ++b) {
         const Vec<2> r = x[a] - x[b];
         if (b == a || kind[b] != FluidKind::fluid || norm2(r) >= kernel.support() * kernel.support()) continue;
-        const double w = kernel.value(std::sqrt(norm2(r))) / density;
+        const double w = alpha[b] * kernel.value(std::sqrt(norm2(r))) / density;
         sum += w;
         dense[a][b] -= w;
         dense_rhs[a] += w * density * dot(gravity, r);
