@@ -83,4 +83,23 @@ struct NearSurfaceDetection {
   }
 };
 
+// Pass 3: the volumes the pressure stages see. A wall particle whose fluid neighbours are all
+// free-surface or splash particles (alpha = 0) is dry: it stands beside a jet, a drop or above the
+// water line, where there is air, not fluid, on the other side of the wall. It gets p = 0 in the PPE
+// (PpeRowFill) and volume 0 here, so that the PPE, the pressure gradient and shifting do not see it
+// (every corrected operator weights neighbours by volume).
+template <int D>
+struct PressureVolume {
+  FluidView<D> v;
+  const Real* alpha;
+  Real* volume;  // out
+  ISPH_HD void operator()(Index a) const {
+    const OperatorView<D>& op = v.op;
+    bool wet = v.is_fluid(a);
+    for (Index k = op.nbr_offset[a]; k < op.nbr_offset[a + 1] && !wet; ++k)
+      wet = v.is_fluid(op.nbr[k]) && alpha[op.nbr[k]] > 0;
+    volume[a] = wet ? op.volume[a] : 0;
+  }
+};
+
 }  // namespace isph

@@ -24,16 +24,16 @@
 // Splash particles (and surface particles without a normal) get p = 0.
 //
 // Wall row (a wall particle with fluid neighbours): the pressure extrapolation of Adami, Hu & Adams
-// (2012, J. Comput. Phys. 231:7057), solved together with the fluid rather than after it, with each
-// fluid neighbour weighted by its Skillen coefficient alpha_f:
-//   sum_f alpha_f W_wf (p_w - p_f) = rho sum_f alpha_f W_wf (g - a_w) · (r_w - r_f),
+// (2012, J. Comput. Phys. 231:7057), solved together with the fluid rather than after it:
+//   sum_f W_wf (p_w - p_f) = rho sum_f W_wf (g - a_w) · (r_w - r_f),
 // divided by rho to give it the scale of the fluid rows. It imposes the pressure gradient
 // rho (g - a_w) of the momentum equation at a wall (exactly for a hydrostatic field), so fluid is kept
-// out of the wall by the projection. The weights leave out free-surface and splash particles: the
-// extrapolation assumes fluid between the wall and the particle, and a wall beside a thin jet or a
-// drop would otherwise hold it up against gravity (a drop sliding along a wall then never falls).
-// A wall particle with no such neighbour, and the pinned particle of a scene without any Dirichlet
-// row (closed or periodic boxes, where p is fixed only up to a constant), get p = 0.
+// out of the wall by the projection. The extrapolation assumes fluid between the wall and its
+// neighbours: a wall particle whose fluid neighbours are all free-surface or splash particles
+// (alpha = 0: a thin jet running up the wall, a drop sliding along it) gets p = 0, or it would hold
+// them up against gravity. So do a wall particle without fluid neighbours and the pinned particle of
+// a scene without any Dirichlet row (closed or periodic boxes, where p is fixed only up to a
+// constant).
 #include "poisson/free_surface.hpp"
 
 namespace isph {
@@ -115,12 +115,15 @@ struct PpeRowFill {
 
   ISPH_HD void wall_row(Index a, Index begin, Index end, Index row) const {
     const OperatorView<D>& op = v.op;
+    bool wet = false;  // a fluid neighbour below the free surface
+    for (Index k = begin; k < end && !wet; ++k) wet = v.is_fluid(op.nbr[k]) && alpha[op.nbr[k]] > 0;
+    if (!wet) return;  // p = 0
     Real diagonal = 0, b_a = 0;
     for (Index k = begin; k < end; ++k) {
       const Index b = op.nbr[k];
       if (!v.is_fluid(b)) continue;
       const Vec<D> r_ab = op.r(a, b);
-      const Real w = alpha[b] * op.kernel.value(sqrt(norm2(r_ab))) / density;
+      const Real w = op.kernel.value(sqrt(norm2(r_ab))) / density;
       diagonal += w;
       b_a += w * density * dot(gravity, r_ab);
       val[row + 1 + (k - begin)] = -w;

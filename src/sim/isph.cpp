@@ -86,6 +86,7 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
   alpha_.assign(n, 1);
   div_u_star_.assign(n, 0);
   eddy_viscosity_.assign(n, 0);
+  pressure_volume_.assign(n, 0);
   detected_.assign(n, SurfaceClass::interior);
   cls_.assign(n, SurfaceClass::interior);
   rhs_.assign(n, 0);
@@ -172,6 +173,8 @@ FluidStepReport IsphSolver<D>::step(Real dt, PhaseTimer& timer) {
     for (Index a = 0; a < n; ++a) x_old_[a] = x_[a] - drift(a);
   });
   const FluidView<D> v = view();
+  FluidView<D> pv = v;  // the pressure stages' view: dry walls have no volume (PressureVolume)
+  pv.op.volume = pressure_volume_.data();
 
   // Eqs. 10, 12-13: intermediate velocity at r* from gravity and viscosity.
   timer.time("predictor", [&] {
@@ -192,7 +195,6 @@ FluidStepReport IsphSolver<D>::step(Real dt, PhaseTimer& timer) {
     parallel_for(exec_, n, SurfaceDetection<D>{v, thresholds_, settings_.free_surface, div_r_.data(),
                                                detected_.data(), alpha_.data()});
     parallel_for(exec_, n, NearSurfaceDetection<D>{v, detected_.data(), cls_.data()});
-    parallel_for(exec_, n, SurfaceNormal<D>{v, L_.data(), cls_.data(), alpha_.data(), surface_normal_.data()});
     Index dirichlet = 0, first_fluid = -1;
     for (Index a = 0; a < n; ++a) {
       if (kind_[a] != FluidKind::fluid) continue;
@@ -201,17 +203,20 @@ FluidStepReport IsphSolver<D>::step(Real dt, PhaseTimer& timer) {
       if (cls_[a] == SurfaceClass::surface) ++report.surface_particles;
     }
     if (dirichlet == 0) pinned = first_fluid;  // p is defined up to a constant: fix it at one particle
+    parallel_for(exec_, n, PressureVolume<D>{v, alpha_.data(), pressure_volume_.data()});
+    if (kernel_correction_) parallel_for(exec_, n, GradientCorrection<D>{pv.op, L_.data()});
+    parallel_for(exec_, n, SurfaceNormal<D>{pv, L_.data(), cls_.data(), alpha_.data(), surface_normal_.data()});
   });
 
   // Eqs. 14-16: assemble the PPE as CSR and solve it.
   timer.time("ppe_assembly", [&] {
-    parallel_for(exec_, n, CorrectedDivergence<D>{v.op, L_.data(), u_star_.data(), div_u_star_.data()});
+    parallel_for(exec_, n, CorrectedDivergence<D>{pv.op, L_.data(), u_star_.data(), div_u_star_.data()});
     full_matrix_.rows = n;
     full_matrix_.row_offset.resize(n + 1);
     for (Index a = 0; a <= n; ++a) full_matrix_.row_offset[a] = a + neighbours_.offset[a];
     full_matrix_.col.resize(full_matrix_.row_offset[n]);
     full_matrix_.val.resize(full_matrix_.row_offset[n]);
-    parallel_for(exec_, n, PpeRowFill<D>{v, L_.data(), alpha_.data(), div_u_star_.data(), density_, dt, gravity_,
+    parallel_for(exec_, n, PpeRowFill<D>{pv, L_.data(), alpha_.data(), div_u_star_.data(), density_, dt, gravity_,
                                          cls_.data(), surface_normal_.data(), extrapolate_surface_, pinned,
                                          full_matrix_.col.data(), full_matrix_.val.data(), rhs_.data()});
     compress_matrix();
@@ -234,7 +239,7 @@ FluidStepReport IsphSolver<D>::step(Real dt, PhaseTimer& timer) {
 
   // Eqs. 18-19: projection and position update.
   timer.time("projection", [&] {
-    parallel_for(exec_, n, CorrectedGradient<D>{v.op, L_.data(), p_.data(), grad_p_.data()});
+    parallel_for(exec_, n, CorrectedGradient<D>{pv.op, L_.data(), p_.data(), grad_p_.data()});
     parallel_for(exec_, n, Project<D>{v, grad_p_.data(), u_star_.data(), density_, dt, u_new_.data()});
     parallel_for(exec_, n, Advance<D>{kind_.data(), wall_velocity_.data(), u_new_.data(), x_old_.data(), dt, period_,
                                       u_.data(), x_.data()});
@@ -243,15 +248,15 @@ FluidStepReport IsphSolver<D>::step(Real dt, PhaseTimer& timer) {
   // Eqs. 20-26, 31-32: shifting at r^{n+1}, with the neighbour list, classes and surface normals of r*.
   if (shifting_ != ShiftingType::none)
     timer.time("shifting", [&] {
-      if (kernel_correction_) parallel_for(exec_, n, GradientCorrection<D>{v.op, L_.data()});
+      if (kernel_correction_) parallel_for(exec_, n, GradientCorrection<D>{pv.op, L_.data()});
       const Real zeta = max_speed() * dt;
-      parallel_for(exec_, n, ShiftDisplacement<D>{v, cls_.data(), surface_normal_.data(), shifting_,
+      parallel_for(exec_, n, ShiftDisplacement<D>{pv, cls_.data(), surface_normal_.data(), shifting_,
                                                   settings_.shifting.coefficient, zeta,
                                                   settings_.shifting.max_fraction * kernel_.h, shift_.data()});
       const bool taylor = settings_.shifting.taylor_correction;
       if (taylor) {
-        parallel_for(exec_, n, VelocityGradient<D>{v, L_.data(), u_.data(), false, 0.0, grad_u_.data(), nullptr});
-        parallel_for(exec_, n, CorrectedGradient<D>{v.op, L_.data(), p_.data(), grad_p_.data()});
+        parallel_for(exec_, n, VelocityGradient<D>{pv, L_.data(), u_.data(), false, 0.0, grad_u_.data(), nullptr});
+        parallel_for(exec_, n, CorrectedGradient<D>{pv.op, L_.data(), p_.data(), grad_p_.data()});
       }
       parallel_for(exec_, n, ApplyShift<D>{cls_.data(), shift_.data(), grad_u_.data(), grad_p_.data(), taylor, period_, x_.data(),
                                            u_.data(), p_.data()});

@@ -97,7 +97,7 @@ class IsphSolver {
   // work arrays
   std::vector<Vec<D>> x_old_, u_star_, u_new_, grad_p_, surface_normal_, shift_;
   std::vector<Mat<D>> L_, Bhat_, grad_u_;
-  std::vector<Real> div_r_, alpha_, div_u_star_, eddy_viscosity_;
+  std::vector<Real> div_r_, alpha_, div_u_star_, eddy_viscosity_, pressure_volume_;
   std::vector<SurfaceClass> detected_, cls_;
   std::vector<double> rhs_;
   CsrMatrix full_matrix_, matrix_;  // as assembled; without zeros, columns sorted

@@ -197,11 +197,15 @@ TEST(PpeAssembly, MatchesDenseAssembly) {
   for (Index a = 0; a < n; ++a) {
     const Mat<2> l = L[a];
     if (kind[a] == FluidKind::wall) {
+      bool wet = false;
+      for (Index b = 0; b < n; ++b)
+        wet = wet || (kind[b] == FluidKind::fluid && alpha[b] > 0 &&
+                      norm2(x[a] - x[b]) < kernel.support() * kernel.support());
       double sum = 0;
       for (Index b = 0; b < n; ++b) {
         const Vec<2> r = x[a] - x[b];
         if (b == a || kind[b] != FluidKind::fluid || norm2(r) >= kernel.support() * kernel.support()) continue;
-        const double w = alpha[b] * kernel.value(std::sqrt(norm2(r))) / density;
+        const double w = wet ? kernel.value(std::sqrt(norm2(r))) / density : 0.0;
         sum += w;
         dense[a][b] -= w;
         dense_rhs[a] += w * density * dot(gravity, r);
