@@ -34,14 +34,14 @@ PY
     while read -r s; do args+=(--set "$s"); done < <(/usr/bin/python3 -c "
 import re, sys
 for m in re.finditer(r'bodies\.[a-z_]+\.shape=\{[^}]*\}', sys.argv[1]): print(m.group(0))" "$wall_set")
-    "$ISPH" run cases/dam_break.toml --out "$out" --threads "$th" --quiet "${args[@]}"
+    "$ISPH" run cases/dam_break.toml --out "$out" --threads "$th" --quiet "${args[@]}" || true  # a failed run is a row too
     /usr/bin/python3 - "$out/summary.json" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1])); ph = s["phases"]; p = s["performance"]
 stepping = sum(v for k, v in ph.items() if k not in ("setup", "output"))
 share = lambda k: f"{100 * ph.get(k, 0) / stepping:.0f} %"
 print(f"| {s['particles']['fluid']} | {s['particles']['wall']} | {p['threads']} | {s['ppe']['solver']} | {s['steps']['fluid']} | "
-      f"{stepping:.2f} | {p['fluid_particle_steps_per_s']:.3g} | " +
+      f"{stepping:.2f} | {p['fluid_particle_steps_per_s']:.3g}{'' if s['status'] == 'completed' else ' (' + s['status'] + ')'} | " +
       " | ".join(share(k) for k in ("neighbours", "predictor", "free_surface", "ppe_assembly", "ppe_solve", "projection", "shifting")) +
       f" | {s['ppe']['mean_iterations']:.1f} |")
 PY
