@@ -29,6 +29,7 @@ double interpolate(const std::vector<double>& x, const std::vector<double>& y, d
 // Two columns of a whitespace table with '#' comments.
 std::vector<std::array<double, 2>> read_table(const fs::path& file) {
   std::ifstream in(file);
+  EXPECT_TRUE(in.good()) << "reference data missing: " << file;
   std::vector<std::array<double, 2>> rows;
   for (std::string line; std::getline(in, line);) {
     if (line.empty() || line[0] == '#') continue;
