@@ -200,7 +200,6 @@ FluidStepReport IsphSolver<D>::step(Real dt, PhaseTimer& timer) {
       if (kind_[a] != FluidKind::fluid) continue;
       if (first_fluid < 0 || id_[a] < id_[first_fluid]) first_fluid = a;
       if (alpha_[a] == 0) ++dirichlet;
-      if (cls_[a] == SurfaceClass::surface) ++report.surface_particles;
     }
     if (dirichlet == 0) pinned = first_fluid;  // p is defined up to a constant: fix it at one particle
     parallel_for(exec_, n, PressureVolume<D>{v, alpha_.data(), pressure_volume_.data()});

@@ -41,7 +41,6 @@ struct FluidStepReport {
   SolveReport ppe;
   std::string ppe_solver;  // the backend that produced the pressure
   bool ppe_failed = false; // no backend converged
-  Index surface_particles = 0;
 };
 
 template <int D>
@@ -67,7 +66,6 @@ class IsphSolver {
   const std::vector<SurfaceClass>& surface_class() const { return cls_; }
   const std::vector<Real>& position_divergence() const { return div_r_; }
   const std::vector<Vec<D>>& shift() const { return shift_; }
-  Real density() const { return density_; }
   const std::string& ppe_solver_name() const { return solver_name_; }
 
   Real kinetic_energy() const;
