@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fluid validation runs (issue: ISPH free-surface fluid). About 30 minutes on 2 cores.
+# Fluid validation runs (issue: ISPH free-surface fluid). About 40 minutes on 2 cores.
 # Writes every run under runs/ (OUT) and then the tables and plots of docs/VALIDATION.md:
 #   bash scripts/validate_fluid.sh            # all runs, then the report
 #   bash scripts/validate_fluid.sh report     # only the report, from existing runs
