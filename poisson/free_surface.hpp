@@ -30,7 +30,7 @@ ISPH_HD inline Real skillen_coefficient(Real div_r, const SurfaceThresholds& t) 
 }
 
 // Pass 1: div r, the surface/splash/interior class and alpha of every fluid particle. Walls get
-// class interior and alpha = 1 (their PPE row is the wall condition, not Eq. 16).
+// class interior, alpha = 1 and div r = 0.
 template <int D>
 struct SurfaceDetection {
   FluidView<D> v;
@@ -40,24 +40,23 @@ struct SurfaceDetection {
   SurfaceClass* cls;
   Real* alpha;
   ISPH_HD void operator()(Index a) const {
+    cls[a] = SurfaceClass::interior;
+    alpha[a] = 1;
+    div_r[a] = 0;
+    if (!v.is_fluid(a)) return;  // a wall's PPE row is the wall condition, not Eq. 16
     const OperatorView<D>& op = v.op;
     Real s = 0;
     int fluid_neighbours = 0;
     for (Index k = op.nbr_offset[a]; k < op.nbr_offset[a + 1]; ++k) {
       const Index b = op.nbr[k];
       const Vec<D> r_ab = op.r(a, b);
-      if (!v.is_fluid(a)) continue;
       s -= v.surface_weight(a, b) * op.volume[b] * dot(r_ab, op.kernel.gradient(r_ab));
       fluid_neighbours += v.is_fluid(b) ? 1 : 0;
     }
     div_r[a] = s;
-    if (!v.is_fluid(a) || !detect || s > thresholds.chi) {
-      cls[a] = SurfaceClass::interior;
-      alpha[a] = (!v.is_fluid(a) || !detect) ? 1 : skillen_coefficient(s, thresholds);
-      return;
-    }
-    cls[a] = fluid_neighbours > 0 ? SurfaceClass::surface : SurfaceClass::splash;
-    alpha[a] = 0;
+    if (!detect) return;
+    alpha[a] = skillen_coefficient(s, thresholds);
+    if (s <= thresholds.chi) cls[a] = fluid_neighbours > 0 ? SurfaceClass::surface : SurfaceClass::splash;
   }
 };
 

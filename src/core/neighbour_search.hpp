@@ -52,10 +52,18 @@ struct CellListView {
   // Calls f(j, r_ij) for every j != i with |r_ij| < radius, r_ij = x_i - x_j (minimum image).
   template <class F>
   ISPH_HD void for_each_neighbour(Index i, F&& f) const {
-    const Vec<D> xi = x[i];
+    for_each_near(x[i], [&](Index j, const Vec<D>& r) {
+      if (j != i && !(group && group[j] != group[i])) f(j, r);
+    });
+  }
+
+  // Calls f(j, r) for every particle j with |r| < radius, r = point - x_j (minimum image), the point
+  // being anywhere (not necessarily a particle).
+  template <class F>
+  ISPH_HD void for_each_near(const Vec<D>& point, F&& f) const {
     int lo[D], hi[D], c[D];
     for (int d = 0; d < D; ++d) {
-      const int ci = grid.coord(xi, d);
+      const int ci = grid.coord(point, d);
       if (period.axis[d]) {  // wraps: dims >= 3 on a periodic axis, so the three cells differ
         lo[d] = ci - 1;
         hi[d] = ci + 1;
@@ -71,8 +79,7 @@ struct CellListView {
       const Index cell = grid.flat(wrapped);
       for (Index k = cell_start[cell]; k < cell_start[cell + 1]; ++k) {
         const Index j = sorted[k];
-        if (j == i || (group && group[j] != group[i])) continue;
-        const Vec<D> r = period.delta(xi, x[j]);
+        const Vec<D> r = period.delta(point, x[j]);
         if (norm2(r) < radius2) f(j, r);
       }
       int d = 0;  // odometer over the 3^D block

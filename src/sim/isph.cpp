@@ -221,18 +221,18 @@ FluidStepReport IsphSolver<D>::step(Real dt, PhaseTimer& timer) {
     compress_matrix();
   });
   timer.time("ppe_solve", [&] {
-    std::vector<double> p(p_.begin(), p_.end());  // warm start from the last pressure
-    report.ppe = solver_->solve(matrix_, rhs_, p);
+    p_trial_ = p_;  // warm start from the last pressure (no allocation after the first step)
+    report.ppe = solver_->solve(matrix_, rhs_, p_trial_);
     report.ppe_solver = solver_->name();
     if (!report.ppe.converged && fallback_) {
-      p.assign(p_.begin(), p_.end());
+      p_trial_ = p_;
       const SolveReport first = report.ppe;
-      report.ppe = fallback_->solve(matrix_, rhs_, p);
+      report.ppe = fallback_->solve(matrix_, rhs_, p_trial_);
       report.ppe_solver = fallback_->name();
       if (!report.ppe.converged) report.ppe.iterations += first.iterations;
     }
     report.ppe_failed = !report.ppe.converged;
-    if (!report.ppe_failed) p_.assign(p.begin(), p.end());
+    if (!report.ppe_failed) p_.swap(p_trial_);
   });
   if (report.ppe_failed) return report;
 

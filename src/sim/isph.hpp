@@ -97,7 +97,7 @@ class IsphSolver {
   std::vector<Mat<D>> L_, Bhat_, grad_u_;
   std::vector<Real> div_r_, alpha_, div_u_star_, eddy_viscosity_, pressure_volume_;
   std::vector<SurfaceClass> detected_, cls_;
-  std::vector<double> rhs_;
+  std::vector<double> rhs_, p_trial_;
   CsrMatrix full_matrix_, matrix_;  // as assembled; without zeros, columns sorted
   CellList<D> cells_;
   NeighbourList neighbours_;

@@ -136,31 +136,11 @@ void wall_surface_geometry(FluidSetup<D>& f, Real dx, Real support, const Period
   CellList<D> cells;
   cells.build(walls, dx, period);
   const CellListView<D> view = cells.view();
-  // Occupancy: a wall particle within dx/2 of q (q is looked up through a temporary slot).
-  std::vector<Vec<D>> probe_point(1);
+  // Occupancy: a wall particle within dx/2 of q.
   auto occupied = [&](const Vec<D>& q) {
-    const CellGrid<D>& g = view.grid;
-    int c[D];
-    for (int d = 0; d < D; ++d) c[d] = g.coord(q, d);
-    int off[D];
-    for (int d = 0; d < D; ++d) off[d] = -1;
-    while (true) {
-      int cell[D];
-      bool inside = true;
-      for (int d = 0; d < D; ++d) {
-        cell[d] = c[d] + off[d];
-        if (period.axis[d]) cell[d] = (cell[d] + g.dims[d]) % g.dims[d];
-        else if (cell[d] < 0 || cell[d] >= g.dims[d]) inside = false;
-      }
-      if (inside) {
-        const Index k = g.flat(cell);
-        for (Index s = view.cell_start[k]; s < view.cell_start[k + 1]; ++s)
-          if (norm2(period.delta(q, walls[view.sorted[s]])) < 0.25 * dx * dx) return true;
-      }
-      int d = 0;
-      while (d < D && ++off[d] > 1) off[d] = -1, ++d;
-      if (d == D) return false;
-    }
+    bool hit = false;
+    view.for_each_near(q, [&](Index, const Vec<D>& r) { hit = hit || norm2(r) < 0.25 * dx * dx; });
+    return hit;
   };
   const int reach = static_cast<int>(std::ceil(support / dx)) + 1;
   for (Index a = 0; a < n; ++a) {
