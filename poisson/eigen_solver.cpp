@@ -85,6 +85,10 @@ class EigenSolver final : public KrylovSolverFrame {
     return engine_->compute(A_);
   }
 
+  void update_rhs(const std::vector<double>& b) override {
+    b_ = Eigen::Map<const Vec>(b.data(), static_cast<Eigen::Index>(b.size()));
+  }
+
   Pass iterate(std::vector<double>& x, double tol, int max_iterations) override {
     Vec xe = Eigen::Map<const Vec>(x.data(), static_cast<Eigen::Index>(x.size()));
     Eigen::ComputationInfo info = Eigen::Success;

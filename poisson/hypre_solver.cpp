@@ -209,6 +209,12 @@ class HypreSolver final : public KrylovSolverFrame {
     return p;
   }
 
+  void update_rhs(const std::vector<double>& b) override {
+    HYPRE_IJVectorSetValues(ij_b_, n_, rows_.data(), b.data());
+    HYPRE_IJVectorAssemble(ij_b_);
+    HYPRE_IJVectorGetObject(ij_b_, reinterpret_cast<void**>(&b_));
+  }
+
   void release() override {
     if (krylov_) (gmres() ? HYPRE_ParCSRGMRESDestroy : HYPRE_ParCSRBiCGSTABDestroy)(krylov_);
     if (amg_) HYPRE_BoomerAMGDestroy(amg_);

@@ -162,9 +162,14 @@ std::string KrylovSolverFrame::name() const {
   return settings_.backend + "-" + settings_.method + "-" + settings_.preconditioner;
 }
 
-SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, const std::vector<double>& b, std::vector<double>& x) {
+SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, const std::vector<double>& b, std::vector<double>& x,
+                                     bool same_matrix) {
   const auto start = std::chrono::steady_clock::now();
   check_linear_system(A_in, b, x);
+  if (!same_matrix && prepared_) {
+    release();
+    prepared_ = false;
+  }
   const int n = A_in.rows;
   if (x.empty()) x.assign(n, 0.0);
 
@@ -212,12 +217,20 @@ SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, const std::vector<do
     return done(notes + "the initial guess meets the tolerance");
   }
 
-  struct Releaser {
-    KrylovSolverFrame* self;
-    ~Releaser() { self->release(); }
-  } releaser{this};
-
-  if (std::string why = setup(A, b); !why.empty()) return done(notes + "setup failed: " + why);
+  if (prepared_) {
+    update_rhs(b);
+  } else {
+    struct ReleaseOnThrow {
+      KrylovSolverFrame* self;
+      bool armed = true;
+      ~ReleaseOnThrow() {
+        if (armed) self->release();
+      }
+    } guard{this};
+    if (std::string why = setup(A, b); !why.empty()) return done(notes + "setup failed: " + why);
+    guard.armed = false;
+    prepared_ = true;
+  }
 
   const std::vector<double> x0 = x;
   const double eps = std::numeric_limits<double>::epsilon();

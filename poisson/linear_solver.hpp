@@ -49,7 +49,10 @@ class LinearSolver {
   // message). Throws std::invalid_argument on a malformed matrix or mismatched sizes.
   // b = 0 gives x = 0. A non-finite initial guess is replaced by zero. When the solver produces a
   // non-finite x, x is restored to the initial guess and the report says so.
-  virtual SolveReport solve(const CsrMatrix& A, const std::vector<double>& b, std::vector<double>& x) = 0;
+  // same_matrix: A is the matrix of the previous call (only b changed), so the copy of A and the
+  // preconditioner built then are used again.
+  virtual SolveReport solve(const CsrMatrix& A, const std::vector<double>& b, std::vector<double>& x,
+                            bool same_matrix = false) = 0;
   virtual std::string name() const = 0;  // e.g. "eigen-bicgstab-ilu", "hypre-gmres-boomeramg"
 };
 
@@ -77,7 +80,8 @@ namespace detail {
 class KrylovSolverFrame : public LinearSolver {
  public:
   explicit KrylovSolverFrame(const SolverSettings& settings) : settings_(settings) {}
-  SolveReport solve(const CsrMatrix& A, const std::vector<double>& b, std::vector<double>& x) final;
+  SolveReport solve(const CsrMatrix& A, const std::vector<double>& b, std::vector<double>& x,
+                    bool same_matrix = false) final;
   std::string name() const final;
 
  protected:
@@ -89,15 +93,21 @@ class KrylovSolverFrame : public LinearSolver {
   // Copies A (columns sorted within each row, no duplicates, all values finite) and b into the
   // backend and builds the preconditioner. Returns an empty string, or why the setup failed.
   virtual std::string setup(const CsrMatrix& A, const std::vector<double>& b) = 0;
+  // Replaces b, keeping A and the preconditioner of the last setup.
+  virtual void update_rhs(const std::vector<double>& b) = 0;
   // Runs the Krylov method from x (in/out) until its own residual estimate falls below tol (relative
   // to ||b||, or to the initial residual of this pass when tolerance_relative_to_initial_residual())
   // or after max_iterations iterations.
   virtual Pass iterate(std::vector<double>& x, double tol, int max_iterations) = 0;
-  // Frees what setup() made; called after every solve, also when it failed or threw.
+  // Frees what setup() made; called before the next setup and when a setup failed or threw (the
+  // setup is kept between solves for same_matrix calls).
   virtual void release() = 0;
   virtual bool tolerance_relative_to_initial_residual() const = 0;
 
   SolverSettings settings_;
+
+ private:
+  bool prepared_ = false;  // a setup() is in place
 };
 
 }  // namespace detail

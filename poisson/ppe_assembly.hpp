@@ -23,7 +23,7 @@
 //                 a wall, get a pressure alpha times too small).
 // Splash particles (and surface particles without a normal) get p = 0.
 //
-// Wall row (a wall particle with fluid neighbours): the pressure extrapolation of Adami, Hu & Adams
+// Wall row (a wall or structure particle with fluid neighbours): the pressure extrapolation of Adami, Hu & Adams
 // (2012, J. Comput. Phys. 231:7057), solved together with the fluid rather than after it:
 //   sum_f W_wf (p_w - p_f) = rho sum_f W_wf (g - a_w) · (r_w - r_f),
 // divided by rho to give it the scale of the fluid rows. It imposes the pressure gradient
@@ -46,7 +46,7 @@ struct PpeRowFill {
   const Real* div_u_star;
   Real density;
   Real dt;
-  Vec<D> gravity;                // g - a_w (walls at constant velocity: a_w = 0)
+  Vec<D> gravity;                // g; a wall row takes g - a_w with a_w from the view
   const SurfaceClass* cls;
   const Vec<D>* surface_normal;  // outward unit normal where alpha < 1 (zero if unknown)
   bool extrapolate_surface;      // the "extrapolated" surface condition instead of "zero"
@@ -54,6 +54,8 @@ struct PpeRowFill {
   int* col;
   double* val;
   double* rhs;
+  Vec<D>* wall_moment;           // wall rows: sum_f W_wf r_wf, so that rhs = (g - a_w) · wall_moment, and
+                                 // the row's solution is p_w = (sum_f w_wf p_f + rhs) / diagonal
 
   ISPH_HD void operator()(Index a) const {
     const OperatorView<D>& op = v.op;
@@ -66,6 +68,7 @@ struct PpeRowFill {
     }
     val[row] = 1;  // Dirichlet p = 0 unless a row below applies
     rhs[a] = 0;
+    wall_moment[a] = Vec<D>::zero();
     if (a == pinned || cls[a] == SurfaceClass::splash) return;
     if (v.is_fluid(a))
       fluid_row(a, begin, end, row);
@@ -118,19 +121,21 @@ struct PpeRowFill {
     bool wet = false;  // a fluid neighbour below the free surface
     for (Index k = begin; k < end && !wet; ++k) wet = v.is_fluid(op.nbr[k]) && alpha[op.nbr[k]] > 0;
     if (!wet) return;  // p = 0
-    Real diagonal = 0, b_a = 0;
+    Real diagonal = 0;
+    Vec<D> moment = Vec<D>::zero();
     for (Index k = begin; k < end; ++k) {
       const Index b = op.nbr[k];
       if (!v.is_fluid(b)) continue;
       const Vec<D> r_ab = op.r(a, b);
       const Real w = op.kernel.value(sqrt(norm2(r_ab))) / density;
       diagonal += w;
-      b_a += w * density * dot(gravity, r_ab);
+      moment += (w * density) * r_ab;
       val[row + 1 + (k - begin)] = -w;
     }
     if (!(diagonal > 0)) return;  // no fluid neighbour: p = 0
     val[row] = diagonal;
-    rhs[a] = b_a;
+    wall_moment[a] = moment;
+    rhs[a] = dot(gravity - v.wall_acceleration[a], moment);
   }
 };
 

@@ -118,6 +118,7 @@ TlsphView<D> TlsphSolver<D>::view() {
   s.load_acc = load_acc_.data();
   s.loads = static_cast<int>(loads_.size());
   s.gravity = gravity_;
+  s.interaction = interaction_.empty() ? nullptr : interaction_.data();
   s.damping = damping_;
   s.hourglass = hourglass_;
   s.F = F_.data();
@@ -215,6 +216,37 @@ Real TlsphSolver<D>::potential_energy() const {
 #pragma omp parallel for reduction(+ : e)
   for (Index a = 0; a < n_; ++a) e -= mass_[a] * dot(gravity_, x_[a] - X_[a]);
   return e;
+}
+
+template <int D>
+void TlsphSolver<D>::set_interaction(const std::vector<Vec<D>>& acc) {
+  if (static_cast<Index>(acc.size()) != n_) throw std::invalid_argument("set_interaction: one value per particle");
+  interaction_ = acc;
+}
+
+template <int D>
+void TlsphSolver<D>::save_state() {
+  saved_x_ = x_;
+  saved_v_ = v_;
+  saved_acc_ = acc_;
+  saved_verlet_started_ = verlet_started_;
+}
+
+template <int D>
+void TlsphSolver<D>::restore_state() {
+  x_ = saved_x_;
+  v_ = saved_v_;
+  acc_ = saved_acc_;
+  verlet_started_ = saved_verlet_started_;
+}
+
+template <int D>
+Real TlsphSolver<D>::interaction_power() const {
+  Real p = 0;
+  if (interaction_.empty()) return p;
+#pragma omp parallel for reduction(+ : p)
+  for (Index a = 0; a < n_; ++a) p += mass_[a] * dot(interaction_[a], v_[a]);
+  return p;
 }
 
 template <int D>

@@ -59,6 +59,15 @@ class TlsphSolver {
   void step(Real t, Real dt);
   // Recomputes F, P and the strain energy at the current state (for output).
   void update_stress();
+  // The fluid's interaction acceleration alpha(f->s) (Eq. 48), one per particle, added to the
+  // acceleration until it is set again.
+  void set_interaction(const std::vector<Vec<D>>& acc);
+  // Power of the interaction acceleration on the current velocities.
+  Real interaction_power() const;
+  // Keeps the current state (positions, velocities, integrator state) and goes back to it, so that a
+  // coupled step can be repeated with another interaction field.
+  void save_state();
+  void restore_state();
 
   Index size() const { return n_; }
   Index pairs() const { return static_cast<Index>(nbr_.size()); }
@@ -68,6 +77,7 @@ class TlsphSolver {
   const std::vector<Vec<D>>& velocity() const { return v_; }
   const std::vector<Mat<D>>& deformation_gradient() const { return F_; }
   const std::vector<unsigned char>& fixed() const { return fixed_; }
+  Real density(Index a) const { return mass_[a] / volume_[a]; }
   const std::vector<Index>& neighbour_offset() const { return nbr_offset_; }
   const std::vector<Index>& neighbours() const { return nbr_; }
   // Cauchy stress sigma = F S F^T / det F of particle a (from the last update_stress()).
@@ -92,7 +102,7 @@ class TlsphSolver {
   Real damping_, hourglass_;
   std::vector<ElasticMaterial> materials_;
   std::vector<LoadField<D>> loads_;
-  std::vector<Vec<D>> load_acc_;
+  std::vector<Vec<D>> load_acc_, interaction_;
   std::vector<Vec<D>> X_, x_, v_, acc_;
   std::vector<Real> volume_, mass_;
   std::vector<int> material_;
@@ -105,6 +115,8 @@ class TlsphSolver {
   std::vector<Real> psi_;
   std::vector<Vec<D>> x0_, v0_, x_sum_, v_sum_;  // integrator scratch
   bool verlet_started_ = false;
+  std::vector<Vec<D>> saved_x_, saved_v_, saved_acc_;
+  bool saved_verlet_started_ = false;
   long long pair_evaluations_ = 0;
 };
 

@@ -52,6 +52,7 @@ struct TlsphView {
   int loads;
   Real load_factor[8];
   Vec<D> gravity;
+  const Vec<D>* interaction;  // the fluid's pressure acceleration alpha(f->s) (Eq. 48), or null
   Real damping;    // mass-proportional damping rate [1/s]
   Real hourglass;  // Ganzenmüller's alpha (0 = off)
   // outputs
@@ -138,6 +139,7 @@ struct TlsphAcceleration {
     }
     Vec<D> acc = (1.0 / m.density) * f + s.gravity - s.damping * s.v[a];
     for (int l = 0; l < s.loads; ++l) acc += s.load_factor[l] * s.load_acc[static_cast<long>(l) * s.n + a];
+    if (s.interaction) acc += s.interaction[a];
     s.acc[a] = acc;
   }
 };

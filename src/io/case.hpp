@@ -140,6 +140,16 @@ struct FluidSpec {
   PpeSolverSpec ppe;
 };
 
+// The fluid-structure coupling (seed 001 §2.3), used when a case has fluid and structure bodies.
+struct CouplingSpec {
+  int substeps = 0;                          // structure steps per fluid step; 0: from the structure's stability limit
+  bool fsi_shifting = true;                  // the FSI shifting layer beside structures (Eqs. 27-30)
+  double tolerance = 1e-3;                   // interface iterations: relative change of the structure's acceleration
+  int max_iterations = 30;                   // interface iterations per fluid step (1: explicit, staggered)
+  int reuse_steps = 8;                       // quasi-Newton: steps whose iterations are reused (0: none)
+  std::string interaction_force = "pairwise";  // pairwise | gradient (Eq. 48 literally; structure/interaction.hpp)
+};
+
 // Periodic axes: particles leaving [lo, hi) re-enter on the other side and neighbours are found
 // across the boundary. Unused axes have lo == hi == 0.
 struct PeriodicSpec {
@@ -169,6 +179,7 @@ struct CaseSpec {
   KernelSpec kernel;
   StructureSpec structure;
   FluidSpec fluid;
+  CouplingSpec coupling;
   PeriodicSpec periodic;
   OutputSpec output;
   StagesSpec stages;

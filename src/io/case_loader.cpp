@@ -368,6 +368,29 @@ void read_fields(Table& t, StructureSpec& s) {
   read_non_negative(t, "hourglass", s.hourglass);
 }
 
+void read_fields(Table& t, CouplingSpec& c) {
+  std::int64_t substeps = c.substeps;
+  if (t.read("substeps", substeps)) {
+    if (substeps < 0 || substeps > 1000000)
+      t.problem("substeps", "must be 0 (from the structure's stability limit) or a count in 1..1000000 (got " +
+                                std::to_string(substeps) + ")");
+    else
+      c.substeps = static_cast<int>(substeps);
+  }
+  t.read("fsi_shifting", c.fsi_shifting);
+  read_choice(t, "interaction_force", c.interaction_force, {"gradient", "pairwise"});
+  if (t.read("tolerance", c.tolerance) && !(c.tolerance > 0.0 && c.tolerance < 1.0))
+    t.problem("tolerance", "must be > 0 and < 1 (got " + show(c.tolerance) + ")");
+  read_positive_int(t, "max_iterations", c.max_iterations);
+  std::int64_t reuse = c.reuse_steps;
+  if (t.read("reuse_steps", reuse)) {
+    if (reuse < 0 || reuse > 100)
+      t.problem("reuse_steps", "must be in 0..100 (got " + std::to_string(reuse) + ")");
+    else
+      c.reuse_steps = static_cast<int>(reuse);
+  }
+}
+
 void read_fields(Table& t, OutputSpec& o) {
   read_non_negative(t, "interval", o.interval);
   read_non_negative(t, "snapshot_interval", o.snapshot_interval);
@@ -647,6 +670,7 @@ void read_fields(Table& t, CaseSpec& c) {
   t.read("kernel", c.kernel);
   t.read("structure", c.structure);
   t.read("fluid", c.fluid);
+  t.read("coupling", c.coupling);
   t.read("periodic", c.periodic);
   t.read("output", c.output);
   t.read("stages", c.stages);
@@ -961,6 +985,13 @@ std::string resolved_toml(const CaseSpec& c) {
       << "damping = " << toml_float(c.structure.damping) << "\n"
       << "hourglass = " << toml_float(c.structure.hourglass) << "\n";
   write_fluid(out, c.fluid);
+  out << "\n[coupling]\n"
+      << "substeps = " << c.coupling.substeps << "\n"
+      << "fsi_shifting = " << toml_bool(c.coupling.fsi_shifting) << "\n"
+      << "interaction_force = " << quote(c.coupling.interaction_force) << "\n"
+      << "tolerance = " << toml_float(c.coupling.tolerance) << "\n"
+      << "max_iterations = " << c.coupling.max_iterations << "\n"
+      << "reuse_steps = " << c.coupling.reuse_steps << "\n";
   write_periodic(out, c.periodic, d);
   out << "\n[output]\n"
       << "interval = " << toml_float(c.output.interval) << "\n"

@@ -42,9 +42,9 @@ struct VelocityGradient {
 // renormalised Laplacian (kernels/operators.hpp) applied per component and the pair viscosity
 // nu_ab = (nu_a + nu_b)/2 (nu = laminar + eddy; the seed's mu_ab/rho_a for one density):
 //   lap_nu u_a = sum_b w_ab nu_ab ((u_a - u_b)/|r_ab| - (G_a r_ab)/|r_ab|),  w_ab = 2 e_ab · B^_a g_ab.
-// Wall particles get the intermediate velocity that the projection turns into their prescribed
-// velocity: u*_w = U_w + dt (g - a_w) (a_w = 0 for walls moving at constant velocity), consistent with
-// the wall pressure of PpeAssembly, so a fluid at rest stays at rest.
+// Wall and structure particles get the intermediate velocity that the projection would turn into
+// their own new velocity: u*_w = U_w + dt g, which the wall pressure gradient rho (g - a_w) of
+// PpeRowFill takes to U_w + dt a_w; so a fluid at rest stays at rest.
 template <int D>
 struct VelocityPredictor {
   FluidView<D> v;

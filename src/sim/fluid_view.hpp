@@ -1,14 +1,16 @@
 #pragma once
 // The plain view of the fluid and wall particles that the ISPH functors read (seed 001 §2.1).
-// One particle set: fluid particles and wall particles, told apart by `kind`. Wall particles carry a
-// prescribed velocity and, from the set-up (sim/scene.cpp), the unit normal of the wall surface
-// nearest to them (pointing into the fluid) and their depth below that surface.
+// One particle set: fluid, wall and structure particles, told apart by `kind`. To the fluid, a
+// structure particle is a wall particle that moves: the boundary particles (walls and structures) carry
+// a velocity and an acceleration (prescribed for walls, from TLSPH for structures) and, from the set-up
+// (sim/scene.cpp), the unit normal of the boundary surface nearest to them (pointing into the fluid)
+// and their depth below that surface; a structure's normals turn with its deformation.
 #include "core/types.hpp"
 #include "kernels/operators.hpp"
 
 namespace isph {
 
-enum class FluidKind : unsigned char { fluid = 0, wall = 1 };
+enum class FluidKind : unsigned char { fluid = 0, wall = 1, structure = 2 };
 
 // Free-surface classes of seed 001 Fig. 2.
 enum class SurfaceClass : unsigned char { interior = 0, near_surface = 1, surface = 2, splash = 3 };
@@ -17,12 +19,14 @@ template <int D>
 struct FluidView {
   OperatorView<D> op;            // positions, volumes, CSR neighbours, kernel, periodicity
   const FluidKind* kind;
-  const Vec<D>* wall_velocity;   // prescribed velocity of wall particles
+  const Vec<D>* wall_velocity;   // velocity of wall and structure particles
+  const Vec<D>* wall_acceleration;  // their acceleration
   const Vec<D>* wall_normal;     // walls: unit normal of the nearest wall surface, into the fluid
   const Real* wall_depth;        // walls: distance below that surface
   Real dx;
 
   ISPH_HD bool is_fluid(Index a) const { return kind[a] == FluidKind::fluid; }
+  ISPH_HD bool is_structure(Index a) const { return kind[a] == FluidKind::structure; }
 
   // How much wall particle w stands in for fluid around fluid particle a, in [0, 1]: the presence of a
   // fluid particle at w's mirror image across its wall surface, m = x_w + 2 d_w n_w, judged from a's

@@ -7,6 +7,7 @@
 
 #include "poisson/ppe_assembly.hpp"
 #include "sim/fluid_functors.hpp"
+#include "structure/interaction.hpp"
 
 namespace isph {
 
@@ -52,6 +53,7 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
       wall_velocity_(std::move(s.wall_velocity)),
       wall_normal_(std::move(s.wall_normal)),
       id_(std::move(s.id)),
+      structure_index_(std::move(s.structure_index)),
       density_(s.density),
       viscosity_(s.viscosity),
       dx_(s.dx),
@@ -62,10 +64,19 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
       gravity_(s.gravity),
       settings_(s.settings),
       shifting_(shifting_type_from_name(s.settings.shifting.type)),
-      extrapolate_surface_(s.settings.surface_pressure == "extrapolated") {
+      extrapolate_surface_(s.settings.surface_pressure == "extrapolated"),
+      fsi_shifting_(s.fsi_shifting),
+      pairwise_force_(s.interaction_force == "pairwise") {
   const std::size_t n = x_.size();
+  if (structure_index_.empty()) structure_index_.assign(n, -1);
+  has_structure_ = std::count(kind_.begin(), kind_.end(), FluidKind::structure) > 0;
+  wall_acceleration_.assign(n, Vec<D>::zero());
+  reference_normal_ = wall_normal_;
+  wall_moment_.assign(n, Vec<D>::zero());
+  L_structure_.assign(n, Mat<D>::identity());
   p_.assign(n, 0);
   fluid_count_ = static_cast<Index>(std::count(kind_.begin(), kind_.end(), FluidKind::fluid));
+  wall_count_ = static_cast<Index>(std::count(kind_.begin(), kind_.end(), FluidKind::wall));
   const Real full = D;  // div r in a full support
   thresholds_.chi = settings_.surface_threshold > 0 ? settings_.surface_threshold : full - 0.6;
   thresholds_.chi_full = settings_.surface_full > 0 ? settings_.surface_full : full - 0.4;
@@ -96,7 +107,8 @@ template <int D>
 FluidView<D> IsphSolver<D>::view() const {
   OperatorView<D> op{size(), x_.data(), volume_.data(), neighbours_.offset.data(), neighbours_.index.data(),
                      kernel_, period_};
-  return {op, kind_.data(), wall_velocity_.data(), wall_normal_.data(), wall_depth_.data(), dx_};
+  return {op,       kind_.data(),        wall_velocity_.data(), wall_acceleration_.data(), wall_normal_.data(),
+          wall_depth_.data(), dx_};
 }
 
 template <int D>
@@ -109,8 +121,11 @@ void IsphSolver<D>::sort_by_cell() {
   permute(wall_depth_, order);
   permute(kind_, order);
   permute(wall_velocity_, order);
+  permute(wall_acceleration_, order);
   permute(wall_normal_, order);
+  permute(reference_normal_, order);
   permute(id_, order);
+  permute(structure_index_, order);
 }
 
 template <int D>
@@ -161,6 +176,14 @@ Real IsphSolver<D>::time_step() const {
 template <int D>
 FluidStepReport IsphSolver<D>::step(Real dt, PhaseTimer& timer) {
   FluidStepReport report;
+  begin_step(dt, timer);
+  solve_pressure(report, timer);
+  if (!report.ppe_failed) end_step(dt, timer);
+  return report;
+}
+
+template <int D>
+void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
   const Index n = size();
   const bool sps = settings_.turbulence == "sps";
 
@@ -217,12 +240,19 @@ FluidStepReport IsphSolver<D>::step(Real dt, PhaseTimer& timer) {
     full_matrix_.val.resize(full_matrix_.row_offset[n]);
     parallel_for(exec_, n, PpeRowFill<D>{pv, L_.data(), alpha_.data(), div_u_star_.data(), density_, dt, gravity_,
                                          cls_.data(), surface_normal_.data(), extrapolate_surface_, pinned,
-                                         full_matrix_.col.data(), full_matrix_.val.data(), rhs_.data()});
+                                         full_matrix_.col.data(), full_matrix_.val.data(), rhs_.data(),
+                                         wall_moment_.data()});
     compress_matrix();
+    solves_since_assembly_ = 0;
   });
+}
+
+template <int D>
+void IsphSolver<D>::solve_pressure(FluidStepReport& report, PhaseTimer& timer) {
   timer.time("ppe_solve", [&] {
     p_trial_ = p_;  // warm start from the last pressure (no allocation after the first step)
-    report.ppe = solver_->solve(matrix_, rhs_, p_trial_);
+    report.ppe = solver_->solve(matrix_, rhs_, p_trial_, solves_since_assembly_ > 0);
+    ++solves_since_assembly_;
     report.ppe_solver = solver_->name();
     if (!report.ppe.converged && fallback_) {
       p_trial_ = p_;
@@ -234,7 +264,14 @@ FluidStepReport IsphSolver<D>::step(Real dt, PhaseTimer& timer) {
     report.ppe_failed = !report.ppe.converged;
     if (!report.ppe_failed) p_.swap(p_trial_);
   });
-  if (report.ppe_failed) return report;
+}
+
+template <int D>
+void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
+  const Index n = size();
+  const FluidView<D> v = view();
+  FluidView<D> pv = v;
+  pv.op.volume = pressure_volume_.data();
 
   // Eqs. 18-19: projection and position update.
   timer.time("projection", [&] {
@@ -251,16 +288,74 @@ FluidStepReport IsphSolver<D>::step(Real dt, PhaseTimer& timer) {
       const Real zeta = max_speed() * dt;
       parallel_for(exec_, n, ShiftDisplacement<D>{pv, cls_.data(), surface_normal_.data(), shifting_,
                                                   settings_.shifting.coefficient, zeta,
-                                                  settings_.shifting.max_fraction * kernel_.h, shift_.data()});
-      const bool taylor = settings_.shifting.taylor_correction;
-      if (taylor) {
+                                                  settings_.shifting.max_fraction * kernel_.h,
+                                                  fsi_shifting_ && has_structure_, shift_.data()});
+      if (settings_.shifting.taylor_correction) {
         parallel_for(exec_, n, VelocityGradient<D>{pv, L_.data(), u_.data(), false, 0.0, grad_u_.data(), nullptr});
         parallel_for(exec_, n, CorrectedGradient<D>{pv.op, L_.data(), p_.data(), grad_p_.data()});
+        parallel_for(exec_, n, TaylorCorrection<D>{pv, cls_.data(), shift_.data(), grad_u_.data(), grad_p_.data(),
+                                                   u_.data(), p_.data(), u_new_.data(), p_trial_.data()});
+        u_.swap(u_new_);
+        p_.swap(p_trial_);
       }
-      parallel_for(exec_, n, ApplyShift<D>{cls_.data(), shift_.data(), grad_u_.data(), grad_p_.data(), taylor, period_, x_.data(),
-                                           u_.data(), p_.data()});
+      parallel_for(exec_, n, ApplyShift<D>{shift_.data(), period_, x_.data()});
     });
   ++steps_;
+}
+
+template <int D>
+void IsphSolver<D>::move_structure(const std::vector<Vec<D>>& x, const std::vector<Vec<D>>& v,
+                                   const std::vector<Mat<D>>& F) {
+  for (Index k = 0; k < size(); ++k) {
+    const Index s = structure_index_[k];
+    if (s < 0) continue;
+    x_[k] = x[s];
+    u_[k] = wall_velocity_[k] = v[s];
+    const Vec<D> n = transpose(inverse(F[s])) * reference_normal_[k];
+    const Real len = std::sqrt(norm2(n));
+    wall_normal_[k] = len > 0 ? (1.0 / len) * n : Vec<D>::zero();
+  }
+}
+
+template <int D>
+void IsphSolver<D>::set_structure_acceleration(const std::vector<Vec<D>>& a) {
+  for (Index k = 0; k < size(); ++k) {
+    const Index s = structure_index_[k];
+    if (s < 0) continue;
+    wall_acceleration_[k] = a[s];
+    rhs_[k] = dot(gravity_ - a[s], wall_moment_[k]);  // PpeRowFill::wall_row
+  }
+}
+
+template <int D>
+Vec<D> IsphSolver<D>::structure_pressure_force(std::vector<Vec<D>>& force_density) {
+  const Index n = size();
+  structure_force_.resize(n);
+  parallel_for(exec_, n, StructurePressureForce<D>{view(), p_.data(), L_structure_.data(), grad_p_.data(),
+                                                   structure_force_.data(), pairwise_force_});
+  Vec<D> total = Vec<D>::zero();
+  for (Index k = 0; k < n; ++k) {
+    const Index s = structure_index_[k];
+    if (s < 0) continue;
+    force_density[s] = structure_force_[k];
+    total += volume_[k] * structure_force_[k];
+  }
+  return total;
+}
+
+template <int D>
+InteractionReport<D> IsphSolver<D>::structure_contact() {
+  const Index n = size();
+  inside_.resize(n);
+  structure_distance_.resize(n);
+  parallel_for(exec_, n, StructureContact<D>{view(), inside_.data(), structure_distance_.data()});
+  InteractionReport<D> report;
+  report.min_distance = std::numeric_limits<Real>::infinity();
+  for (Index k = 0; k < n; ++k) {
+    if (kind_[k] != FluidKind::fluid) continue;
+    report.fluid_inside += inside_[k];
+    report.min_distance = std::min(report.min_distance, structure_distance_[k]);
+  }
   return report;
 }
 

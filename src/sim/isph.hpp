@@ -1,6 +1,7 @@
 #pragma once
 // The ISPH fluid solver: one projection step of seed 001 §2.1 (Algorithm 1, fluid part) over a
-// particle set of fluid and wall particles. The step reads like the algorithm; every particle loop
+// particle set of fluid, wall and structure particles (structures are moving boundaries here; their
+// dynamics is TLSPH's, structure/). The step reads like the algorithm; every particle loop
 // is a functor (sim/fluid_functors.hpp, poisson/, shifting/) run by the common launcher.
 #include <memory>
 #include <string>
@@ -23,8 +24,9 @@ struct FluidSetup {
   std::vector<Real> volume;
   std::vector<FluidKind> kind;
   std::vector<Vec<D>> wall_velocity;  // prescribed velocity (walls), zero for fluid
-  std::vector<Vec<D>> wall_normal;    // walls: unit normal into the fluid (zero when deep inside)
-  std::vector<Real> wall_depth;       // walls: distance below the wall surface
+  std::vector<Vec<D>> wall_normal;    // walls, structures: unit normal into the fluid (zero when deep inside)
+  std::vector<Real> wall_depth;       // walls, structures: distance below the surface
+  std::vector<Index> structure_index; // structure particles: index in the TLSPH solver; -1 for others
   std::vector<Index> id;              // stable id (output order)
   Real density = 0;
   Real viscosity = 0;                 // kinematic [m^2/s]
@@ -35,6 +37,15 @@ struct FluidSetup {
   Vec<D> gravity = Vec<D>::zero();
   Real reference_velocity = 0;        // floor on U in Eq. 49 (resolved from the case)
   FluidSpec settings;
+  bool fsi_shifting = true;           // the FSI shifting layer (Eqs. 27-30)
+  std::string interaction_force = "pairwise";  // pairwise | gradient (Eq. 48 literally; structure/interaction.hpp)
+};
+
+// Penetration diagnostics of a coupled step (structure/interaction.hpp).
+template <int D>
+struct InteractionReport {
+  Index fluid_inside = 0;                // fluid particles inside a structure
+  Real min_distance = 0;                 // smallest fluid-structure particle distance (inf: none in reach)
 };
 
 struct FluidStepReport {
@@ -54,10 +65,18 @@ class IsphSolver {
 
   // One projection step of length dt: predictor, free surface, PPE, projection, shifting.
   FluidStepReport step(Real dt, PhaseTimer& timer);
+  // The same step in three parts, for the coupled step, which solves the PPE again after changing the
+  // structure's acceleration (set_structure_acceleration):
+  //   begin_step: drift to r*, neighbours, predictor, free surface, PPE assembly;
+  //   solve_pressure: the PPE (the pressure is kept only when a solver converged);
+  //   end_step: projection, position update, shifting.
+  void begin_step(Real dt, PhaseTimer& timer);
+  void solve_pressure(FluidStepReport& report, PhaseTimer& timer);
+  void end_step(Real dt, PhaseTimer& timer);
 
   Index size() const { return static_cast<Index>(x_.size()); }
   Index fluid_count() const { return fluid_count_; }
-  Index wall_count() const { return size() - fluid_count_; }
+  Index wall_count() const { return wall_count_; }
   const std::vector<Vec<D>>& position() const { return x_; }
   const std::vector<Vec<D>>& velocity() const { return u_; }
   const std::vector<Real>& pressure() const { return p_; }
@@ -80,6 +99,19 @@ class IsphSolver {
   // First fluid particle with a non-finite position, velocity or pressure, or -1.
   Index first_non_finite() const;
 
+  // Structure particles follow the TLSPH solver: positions, velocities and deformation gradients,
+  // indexed as in the TLSPH solver. The surface normals turn with F: n = F^{-T} N / |F^{-T} N|.
+  void move_structure(const std::vector<Vec<D>>& x, const std::vector<Vec<D>>& v, const std::vector<Mat<D>>& F);
+  // The structure's acceleration over the current step, a_s in the PPE rows of structure particles
+  // (g - a_s, PpeRowFill); between begin_step and solve_pressure it updates the assembled right-hand side.
+  void set_structure_acceleration(const std::vector<Vec<D>>& a);
+  // After solve_pressure: the pressure force per unit volume on the structure particles (Eq. 48 times
+  // rho_s, or its pairwise form), indexed as in the TLSPH solver, and its sum (the force on the structure).
+  Vec<D> structure_pressure_force(std::vector<Vec<D>>& force_density);
+  // Fluid particles inside a structure, and the smallest fluid-structure particle distance (inf if none
+  // is within the kernel support).
+  InteractionReport<D> structure_contact();
+
  private:
   FluidView<D> view() const;
   void find_neighbours();
@@ -90,20 +122,25 @@ class IsphSolver {
   std::vector<Vec<D>> x_, u_;
   std::vector<Real> p_, volume_, wall_depth_;
   std::vector<FluidKind> kind_;
-  std::vector<Vec<D>> wall_velocity_, wall_normal_;
-  std::vector<Index> id_;
+  std::vector<Vec<D>> wall_velocity_, wall_acceleration_, wall_normal_, reference_normal_;
+  std::vector<Index> id_, structure_index_;
   // work arrays
   std::vector<Vec<D>> x_old_, u_star_, u_new_, grad_p_, surface_normal_, shift_;
   std::vector<Mat<D>> L_, Bhat_, grad_u_;
   std::vector<Real> div_r_, alpha_, div_u_star_, eddy_viscosity_, pressure_volume_;
   std::vector<SurfaceClass> detected_, cls_;
+  std::vector<Vec<D>> wall_moment_, structure_force_;
+  std::vector<Mat<D>> L_structure_;
+  std::vector<unsigned char> inside_;
+  std::vector<Real> structure_distance_;
   std::vector<double> rhs_, p_trial_;
   CsrMatrix full_matrix_, matrix_;  // as assembled; without zeros, columns sorted
   CellList<D> cells_;
   NeighbourList neighbours_;
 
-  Index fluid_count_ = 0;
+  Index fluid_count_ = 0, wall_count_ = 0;
   long long steps_ = 0;
+  int solves_since_assembly_ = 0;  // PPE solves with the assembled matrix (the later ones reuse its set-up)
   Real density_, viscosity_, dx_, reference_velocity_;
   SmoothingKernel<D> kernel_;
   bool kernel_correction_;
@@ -113,6 +150,9 @@ class IsphSolver {
   SurfaceThresholds thresholds_;
   ShiftingType shifting_;
   bool extrapolate_surface_;
+  bool fsi_shifting_;
+  bool pairwise_force_;
+  bool has_structure_;
   std::unique_ptr<LinearSolver> solver_, fallback_;
   std::string solver_name_;
   Exec exec_{};

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "io/output.hpp"
+#include "sim/coupling.hpp"
 #include "sim/phase_timer.hpp"
 #include "sim/scene.hpp"
 
@@ -28,6 +29,13 @@ std::array<double, 3> to_array(const Vec<D>& v) {
   std::array<double, 3> a{0, 0, 0};
   for (int d = 0; d < D; ++d) a[d] = v[d];
   return a;
+}
+
+template <int D>
+Vec<D> gravity_vector(const std::array<double, 3>& g) {
+  Vec<D> v;
+  for (int d = 0; d < D; ++d) v[d] = g[d];
+  return v;
 }
 
 template <int D>
@@ -198,11 +206,38 @@ Index find_divergence(const TlsphSolver<D>& solver, Real limit) {
   return -1;
 }
 
+// Probe columns and values of the displacement probes: u at the probe point by the particle's own
+// deformation gradient, u_a + (F_a - I)(point - X_a) (after update_stress()).
+template <int D>
+void add_displacement_columns(const Scene<D>& scene, std::vector<std::string>& columns) {
+  for (const auto& p : scene.probes)
+    for (int d = 0; d < D; ++d) columns.push_back(p.name + "." + kComponents[d]);
+}
+template <int D>
+void add_displacement_values(const Scene<D>& scene, const TlsphSolver<D>& solver, std::vector<double>& row) {
+  for (const auto& p : scene.probes) {
+    const Index a = p.particle;
+    const Vec<D> u = (solver.position()[a] - solver.reference()[a]) +
+                     (solver.deformation_gradient()[a] - Mat<D>::identity()) * (p.point - solver.reference()[a]);
+    for (int d = 0; d < D; ++d) row.push_back(u[d]);
+  }
+}
+
+// The message for a structure particle that became non-finite or ran away.
+template <int D>
+std::string structure_divergence_message(const Scene<D>& scene, Index bad, Real t, long long step) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "structure particle %d (id %d) became non-finite or moved more than 10 body lengths at t = %.6g s "
+                "(step %lld); try a smaller structure.courant",
+                bad, scene.structure_id[bad], t, step);
+  return buf;
+}
+
 template <int D>
 RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene, PhaseTimer& timer) {
   std::vector<std::string> columns;
-  for (const auto& p : scene.probes)
-    for (int d = 0; d < D; ++d) columns.push_back(p.name + "." + kComponents[d]);
+  add_displacement_columns(scene, columns);
   RunFrame frame(spec, opt, columns, D);
   std::unique_ptr<TlsphSolver<D>> solver_ptr;
   timer.time("setup", [&] { solver_ptr = std::make_unique<TlsphSolver<D>>(scene.structure, Exec{opt.device}); });
@@ -219,13 +254,7 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& s
     timer.time("output", [&] {
       solver.update_stress();
       std::vector<double> row{t};
-      for (const auto& p : scene.probes) {
-        const Index a = p.particle;
-        // u at the probe point by the particle's own deformation gradient
-        const Vec<D> u = (solver.position()[a] - solver.reference()[a]) +
-                         (solver.deformation_gradient()[a] - Mat<D>::identity()) * (p.point - solver.reference()[a]);
-        for (int d = 0; d < D; ++d) row.push_back(u[d]);
-      }
+      add_displacement_values(scene, solver, row);
       frame.probes.add_row(row);
       const Real ek = solver.kinetic_energy(), ep = solver.potential_energy(), es = solver.strain_energy();
       frame.energy.add_row({t, 0, 0, ek, ep, es, boundary_work, ek + ep + es - boundary_work});
@@ -251,12 +280,7 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& s
     if ((step + 1) % 16 == 0 || step + 1 == steps) {
       const Index bad = find_divergence(solver, 10 * scene.body_extent);
       if (bad >= 0) {
-        char buf[256];
-        std::snprintf(buf, sizeof buf,
-                      "structure particle %d (id %d) became non-finite or moved more than 10 body lengths at t = %.6g s "
-                      "(step %lld); try a smaller structure.courant",
-                      bad, scene.structure_id[bad], t1, step + 1);
-        frame.diverge(buf);
+        frame.diverge(structure_divergence_message(scene, bad, t1, step + 1));
         ++step;
         record(t1);
         if (frame.writes_snapshots()) snapshot(t1);
@@ -285,7 +309,7 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& s
 }
 
 // ------------------------------------------------------------------------------------------------
-// Fluid only (ISPH)
+// Fluid (ISPH), alone or coupled with structures (ISPH-TLSPH, seed 001 Algorithm 1)
 // ------------------------------------------------------------------------------------------------
 
 // Writes the fields of the fluid and wall particles, in stable-id order.
@@ -306,7 +330,7 @@ void write_fluid_snapshot(SnapshotWriter& writer, double t, const IsphSolver<D>&
     put_vector(vel, k, solver.velocity()[a]);
     put_vector(shift, k, solver.shift()[a]);
     p.data[k] = solver.pressure()[a];
-    kind.data[k] = solver.kind()[a] == FluidKind::fluid ? 0 : 1;
+    kind.data[k] = static_cast<double>(solver.kind()[a]);  // 0 fluid, 1 wall, 2 structure
     surface.data[k] = static_cast<double>(solver.surface_class()[a]);
     div_r.data[k] = solver.position_divergence()[a];
     id.data[k] = k;
@@ -335,9 +359,16 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
     if (p.type == "velocity")
       for (int d = 0; d < D; ++d) columns.push_back(p.name + "." + kComponents[d]);
   }
+  if (scene.has_structure) add_displacement_columns(scene, columns);
   RunFrame frame(spec, opt, columns, D);
   std::unique_ptr<IsphSolver<D>> solver_ptr;
-  timer.time("setup", [&] { solver_ptr = std::make_unique<IsphSolver<D>>(std::move(scene.fluid)); });
+  std::unique_ptr<StructureCoupling<D>> coupling;
+  timer.time("setup", [&] {
+    solver_ptr = std::make_unique<IsphSolver<D>>(std::move(scene.fluid));
+    if (scene.has_structure)
+      coupling = std::make_unique<StructureCoupling<D>>(std::move(scene.structure), spec.coupling, spec.structure.courant,
+                                                        gravity_vector<D>(spec.gravity));
+  });
   IsphSolver<D>& solver = *solver_ptr;
   frame.set_output_interval(solver.time_step(), 20);
 
@@ -353,9 +384,15 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
           for (int d = 0; d < D; ++d) row.push_back(u[d]);
         }
       }
-      frame.probes.add_row(row);
       const Real ek = solver.kinetic_energy(), ep = solver.potential_energy();
-      frame.energy.add_row({t, ek, ep, 0, 0, 0, 0, ek + ep});
+      Real sk = 0, sp = 0, ss = 0;
+      if (coupling) {
+        const TlsphSolver<D>& s = coupling->solver();
+        add_displacement_values(scene, s, row);
+        sk = s.kinetic_energy(), sp = s.potential_energy(), ss = s.strain_energy();
+      }
+      frame.probes.add_row(row);
+      frame.energy.add_row({t, ek, ep, sk, sp, ss, 0, ek + ep + sk + sp + ss});
     });
   };
   auto snapshot = [&](Real t) {
@@ -379,7 +416,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
     const Real left = spec.end_time - t;
     if (dt >= left - eps) dt = left;
     else if (2 * dt > left) dt = 0.5 * left;
-    const FluidStepReport report = solver.step(dt, timer);
+    const FluidStepReport report = coupling ? coupling->step(t, dt, solver, timer) : solver.step(dt, timer);
     ++step;
     t += dt;
     iterations += report.ppe.iterations;
@@ -405,6 +442,9 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
                     "reached %.4g m/s",
                     dt, dt / first_dt, t, step, solver.max_speed());
       frame.diverge(buf);
+    } else if (const Index bad_s = coupling ? find_divergence(coupling->solver(), 10 * scene.body_extent) : -1;
+               bad_s >= 0) {
+      frame.diverge(structure_divergence_message(scene, bad_s, t, step));
     } else if (const Index out = find_escape(solver, scene); out >= 0) {
       std::snprintf(buf, sizeof buf, "fluid particle id %d escaped the tank at t = %.6g s (step %lld), at (%g, %g)",
                     solver.id()[out], t, step, solver.position()[out][0], solver.position()[out][1]);
@@ -432,7 +472,9 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   perf.set("threads", static_cast<long long>(omp_get_max_threads()))
       .set("mean_fluid_dt", step > 0 ? t / step : 0.0)
       .set("fluid_particle_steps_per_s", stepping > 0 ? double(solver.fluid_count()) * step / stepping : 0.0);
-  frame.finish(D, particle_counts(solver.fluid_count(), solver.wall_count(), 0), step, 0, t, timer, ppe, perf);
+  if (coupling) perf.set("coupling", coupling->summary());
+  frame.finish(D, particle_counts(solver.fluid_count(), solver.wall_count(), coupling ? coupling->solver().size() : 0),
+               step, coupling ? coupling->substeps() : 0, t, timer, ppe, perf);
   return frame.result;
 }
 
@@ -441,8 +483,6 @@ RunResult run_dimension(const CaseSpec& spec, const RunOptions& opt) {
   PhaseTimer timer;
   Scene<D> scene;
   timer.time("setup", [&] { scene = build_scene<D>(spec); });
-  if (scene.has_fluid && scene.has_structure)
-    throw std::runtime_error(spec.name + ": fluid-structure coupling is not available in this version");
   return scene.has_fluid ? run_fluid<D>(spec, opt, scene, timer) : run_structure<D>(spec, opt, scene, timer);
 }
 

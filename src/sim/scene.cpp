@@ -102,7 +102,21 @@ void add_fluid_body(const CaseSpec& spec, std::size_t bi, const std::vector<Vec<
     f.volume.push_back(volume);
     f.kind.push_back(is_fluid ? FluidKind::fluid : FluidKind::wall);
     f.wall_velocity.push_back(is_fluid ? Vec<D>::zero() : wall_velocity);
+    if (!f.structure_index.empty()) f.structure_index.push_back(-1);
   }
+}
+
+// Appends a structure particle to the fluid set-up, where it acts as a moving boundary (coupled cases).
+template <int D>
+void add_structure_particle(const Vec<D>& x, const Vec<D>& v, Index structure_index, Real dx, FluidSetup<D>& f) {
+  f.structure_index.resize(f.x.size(), -1);
+  f.id.push_back(static_cast<Index>(f.x.size()));
+  f.x.push_back(x);
+  f.u.push_back(v);
+  f.volume.push_back(D == 2 ? dx * dx : dx * dx * dx);
+  f.kind.push_back(FluidKind::structure);
+  f.wall_velocity.push_back(v);
+  f.structure_index.push_back(structure_index);
 }
 
 template <int D>
@@ -128,7 +142,7 @@ void wall_surface_geometry(FluidSetup<D>& f, Real dx, Real support, const Period
   f.wall_depth.assign(n, 0);
   std::vector<Vec<D>> walls;
   for (Index a = 0; a < n; ++a)
-    if (f.kind[a] == FluidKind::wall) walls.push_back(f.x[a]);
+    if (f.kind[a] != FluidKind::fluid) walls.push_back(f.x[a]);
   if (walls.empty()) return;
   Vec<D> lo = f.x[0], hi = f.x[0];
   for (const auto& x : f.x)
@@ -144,7 +158,7 @@ void wall_surface_geometry(FluidSetup<D>& f, Real dx, Real support, const Period
   };
   const int reach = static_cast<int>(std::ceil(support / dx)) + 1;
   for (Index a = 0; a < n; ++a) {
-    if (f.kind[a] != FluidKind::wall) continue;
+    if (f.kind[a] == FluidKind::fluid) continue;
     Real best = std::numeric_limits<Real>::max();
     Vec<D> best_offset = Vec<D>::zero();
     int k[D];
@@ -228,6 +242,8 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, std::
   f.period = period;
   f.gravity = to_vec<D>(spec.gravity);
   f.settings = spec.fluid;
+  f.fsi_shifting = spec.coupling.fsi_shifting;
+  f.interaction_force = spec.coupling.interaction_force;
 
   // One fluid material.
   std::string material;
@@ -243,7 +259,10 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, std::
     if (m.name == material) f.density = m.density, f.viscosity = m.viscosity;
 
   Index fluid = 0, wall = 0;
-  for (Index a = 0; a < n; ++a) (f.kind[a] == FluidKind::fluid ? fluid : wall)++;
+  for (Index a = 0; a < n; ++a) {
+    fluid += f.kind[a] == FluidKind::fluid;
+    wall += f.kind[a] == FluidKind::wall;
+  }
   scene.fluid_particles = fluid;
   scene.wall_particles = wall;
   if (fluid == 0) {
@@ -262,17 +281,21 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, std::
       }
   }
 
-  // Overlaps: a fluid particle inside a wall or structure body.
+  // Overlaps: a fluid particle inside a wall or structure body, a wall particle inside a structure.
   for (std::size_t bi = 0; bi < spec.bodies.size(); ++bi) {
     const BodySpec& b = spec.bodies[bi];
     if (b.kind == ParticleKind::fluid) continue;
-    Index inside = 0;
-    for (Index a = 0; a < n; ++a)
-      if (f.kind[a] == FluidKind::fluid && b.shape.contains(to_array(f.x[a]), D)) ++inside;
-    if (inside > 0)
-      problems.push_back(file + ": bodies[" + std::to_string(bi) + "].shape: " + std::to_string(inside) +
-                         " fluid particles lie inside this " + (b.kind == ParticleKind::wall ? "wall" : "structure") +
-                         " body '" + b.name + "' (bodies of different kinds must not overlap)");
+    for (const FluidKind other : {FluidKind::fluid, FluidKind::wall}) {
+      if (other == FluidKind::wall && b.kind != ParticleKind::structure) continue;
+      Index inside = 0;
+      for (Index a = 0; a < n; ++a)
+        if (f.kind[a] == other && b.shape.contains(to_array(f.x[a]), D)) ++inside;
+      if (inside > 0)
+        problems.push_back(file + ": bodies[" + std::to_string(bi) + "].shape: " + std::to_string(inside) + " " +
+                           (other == FluidKind::fluid ? "fluid" : "wall") + " particles lie inside this " +
+                           (b.kind == ParticleKind::wall ? "wall" : "structure") + " body '" + b.name +
+                           "' (bodies of different kinds must not overlap)");
+    }
   }
 
   // Containment: fluid inside the walls' bounding box on every non-periodic axis (open upwards,
@@ -312,7 +335,7 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, std::
   for (Index a = 0; a < n; ++a) {
     if (f.kind[a] == FluidKind::wall) {
       wall_speed = std::max(wall_speed, std::sqrt(norm2(f.wall_velocity[a])));
-    } else if (g_norm > 0) {
+    } else if (f.kind[a] == FluidKind::fluid && g_norm > 0) {
       const Real height = -dot(f.x[a], g) / g_norm;
       fluid_lo = std::min(fluid_lo, height), fluid_hi = std::max(fluid_hi, height);
     }
@@ -402,6 +425,7 @@ Scene<D> build_scene(const CaseSpec& spec) {
       s.material.push_back(material);
       s.body.push_back(static_cast<int>(bi));
       s.fixed.push_back(fixed);
+      if (spec.stages.fluid) add_structure_particle<D>(p, s.v.back(), static_cast<Index>(s.X.size()) - 1, dx, fluid);
     }
     for (std::size_t c = 0; c < body.clamps.size(); ++c)
       if (clamp_count[c] == 0)
@@ -474,6 +498,10 @@ Scene<D> build_scene(const CaseSpec& spec) {
   for (auto& l : s.loads) permute(l.acc);
   scene.structure_id = order;
   scene.structure_body = s.body;
+  std::vector<Index> sorted_slot(n);  // creation index -> index after sorting
+  for (Index k = 0; k < n; ++k) sorted_slot[order[k]] = k;
+  for (Index& i : fluid.structure_index)
+    if (i >= 0) i = sorted_slot[i];
 
   // Probes: the structure particle nearest the point, which must lie within dx of the body.
   for (std::size_t pi = 0; pi < spec.probes.size(); ++pi) {

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <string>
@@ -60,6 +61,13 @@ inline std::map<std::string, std::vector<double>> read_csv(const fs::path& file)
 inline std::string read_file(const fs::path& file) {
   std::ifstream in(file);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// The number after the first "key": in a JSON text (NaN if the key is absent).
+inline double json_number(const std::string& json, const std::string& key) {
+  const std::size_t at = json.find("\"" + key + "\":");
+  if (at == std::string::npos) return std::numeric_limits<double>::quiet_NaN();
+  return std::stod(json.substr(at + key.size() + 3));
 }
 
 }  // namespace regression

@@ -162,7 +162,7 @@ TEST(PpeAssembly, MatchesDenseAssembly) {
     }
   const Index n = static_cast<Index>(x.size());
   std::vector<Real> volume(n, dx * dx), alpha(n), div_u(n), depth(n, 0);
-  std::vector<Vec<2>> wall_velocity(n, Vec<2>::zero()), wall_normal(n, Vec<2>::zero()), normal(n, Vec<2>::zero());
+  std::vector<Vec<2>> wall_velocity(n, Vec<2>::zero()), wall_acceleration(n, Vec<2>::zero()), wall_normal(n, Vec<2>::zero()), normal(n, Vec<2>::zero());
   std::vector<SurfaceClass> cls(n, SurfaceClass::interior);
   for (Index a = 0; a < n; ++a) {
     div_u[a] = uniform(rng) - 0.5;
@@ -179,7 +179,7 @@ TEST(PpeAssembly, MatchesDenseAssembly) {
   const OperatorView<2> op{n, x.data(), volume.data(), nl.offset.data(), nl.index.data(), kernel};
   std::vector<Mat<2>> L(n);
   parallel_for(Exec{}, n, GradientCorrection<2>{op, L.data()});
-  const FluidView<2> view{op, kind.data(), wall_velocity.data(), wall_normal.data(), depth.data(), dx};
+  const FluidView<2> view{op, kind.data(), wall_velocity.data(), wall_acceleration.data(), wall_normal.data(), depth.data(), dx};
   const Index pinned = -1;
   CsrMatrix A;
   A.rows = n;
@@ -188,8 +188,10 @@ TEST(PpeAssembly, MatchesDenseAssembly) {
   A.col.resize(A.row_offset[n]);
   A.val.resize(A.row_offset[n]);
   std::vector<double> rhs(n);
+  std::vector<Vec<2>> moment(n);
   parallel_for(Exec{}, n, PpeRowFill<2>{view, L.data(), alpha.data(), div_u.data(), density, dt, gravity, cls.data(),
-                                        normal.data(), true, pinned, A.col.data(), A.val.data(), rhs.data()});
+                                        normal.data(), true, pinned, A.col.data(), A.val.data(), rhs.data(),
+                                        moment.data()});
 
   // Dense reference.
   std::vector<std::vector<double>> dense(n, std::vector<double>(n, 0.0)), csr(n, std::vector<double>(n, 0.0));
@@ -269,7 +271,7 @@ TEST(EddyViscosity, SimpleShear) {
   const OperatorView<2> op{n, x.data(), volume.data(), nl.offset.data(), nl.index.data(), kernel};
   std::vector<Mat<2>> L(n), G(n);
   parallel_for(Exec{}, n, GradientCorrection<2>{op, L.data()});
-  const FluidView<2> view{op, kind.data(), zero.data(), zero.data(), depth.data(), dx};
+  const FluidView<2> view{op, kind.data(), zero.data(), zero.data(), zero.data(), depth.data(), dx};
   parallel_for(Exec{}, n, VelocityGradient<2>{view, L.data(), u.data(), true, cs, G.data(), nu_t.data()});
   for (Index a = 0; a < n; ++a) {
     ASSERT_NEAR(G[a](0, 1), gamma, 1e-9);

@@ -1,0 +1,173 @@
+#include "sim/coupling.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace isph {
+
+namespace {
+
+template <int D>
+Eigen::VectorXd flatten(const std::vector<Vec<D>>& v) {
+  Eigen::VectorXd out(static_cast<Eigen::Index>(D * v.size()));
+  for (std::size_t a = 0; a < v.size(); ++a)
+    for (int d = 0; d < D; ++d) out[static_cast<Eigen::Index>(D * a + d)] = v[a][d];
+  return out;
+}
+
+template <int D>
+void unflatten(const Eigen::VectorXd& x, std::vector<Vec<D>>& v) {
+  for (std::size_t a = 0; a < v.size(); ++a)
+    for (int d = 0; d < D; ++d) v[a][d] = x[static_cast<Eigen::Index>(D * a + d)];
+}
+
+}  // namespace
+
+void InterfaceQuasiNewton::begin_step() {
+  if (!current_.empty()) {
+    earlier_.push_front(std::move(current_));
+    if (static_cast<int>(earlier_.size()) > reuse_steps_) earlier_.pop_back();
+  }
+  current_.clear();
+  has_last_ = false;
+}
+
+Eigen::VectorXd InterfaceQuasiNewton::next(const Eigen::VectorXd& x, const Eigen::VectorXd& hx) {
+  const Eigen::VectorXd r = hx - x;
+  if (has_last_) current_.push_back({r - last_r_, hx - last_h_});
+  last_r_ = r;
+  last_h_ = hx;
+  has_last_ = true;
+  std::vector<const Column*> columns;
+  for (auto it = current_.rbegin(); it != current_.rend(); ++it) columns.push_back(&*it);  // newest first
+  for (const auto& step : earlier_)
+    for (auto it = step.rbegin(); it != step.rend(); ++it) columns.push_back(&*it);
+  const Eigen::Index rows = x.size();
+  const Eigen::Index cols = std::min<Eigen::Index>(static_cast<Eigen::Index>(columns.size()), rows);
+  if (cols == 0) return x + 0.1 * r;
+  Eigen::MatrixXd V(rows, cols), W(rows, cols);
+  for (Eigen::Index k = 0; k < cols; ++k) {
+    V.col(k) = columns[k]->dr;
+    W.col(k) = columns[k]->dh;
+  }
+  const Eigen::VectorXd c = V.colPivHouseholderQr().solve(-r);
+  return hx + W * c;
+}
+
+template <int D>
+StructureCoupling<D>::StructureCoupling(TlsphSetup<D> setup, const CouplingSpec& coupling, Real courant,
+                                        Vec<D> gravity)
+    : solver_(std::move(setup)),
+      spec_(coupling),
+      stable_dt_(solver_.stable_dt(courant)),
+      g_norm_(std::sqrt(norm2(gravity))),
+      quasi_newton_(coupling.reuse_steps),
+      min_distance_(std::numeric_limits<Real>::infinity()) {
+  const Index n = solver_.size();
+  for (auto* v : {&force_density_, &interaction_, &a_guess_, &a_new_, &v_new_})
+    v->assign(n, Vec<D>::zero());
+  v_mean_ = solver_.velocity();
+  density_.resize(n);
+  for (Index a = 0; a < n; ++a) density_[a] = solver_.density(a);
+}
+
+template <int D>
+int StructureCoupling<D>::substep(Real t, Real dt, Real& work) {
+  const int count =
+      spec_.substeps > 0 ? spec_.substeps : std::max(1, static_cast<int>(std::ceil(dt / stable_dt_ - 1e-9)));
+  const Real h = dt / count;
+  for (int k = 0; k < count; ++k) {
+    const Real p0 = solver_.interaction_power();
+    solver_.step(t + k * h, h);
+    work += 0.5 * h * (p0 + solver_.interaction_power());
+  }
+  return count;
+}
+
+template <int D>
+FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid, PhaseTimer& timer) {
+  const Index n = solver_.size();
+  FluidStepReport report;
+  fluid.begin_step(dt, timer);
+  quasi_newton_.begin_step();
+  timer.time("structure", [&] {
+    solver_.save_state();
+    x_old_ = solver_.position();
+  });
+  const Real floor = g_norm_ * std::sqrt(static_cast<Real>(n));  // |g| on every particle
+  int iteration = 0, count = 0;
+  Real work = 0;
+  Vec<D> force = Vec<D>::zero();
+  bool converged = false;
+  while (!converged && iteration < spec_.max_iterations) {
+    ++iteration;
+    fluid.set_structure_acceleration(a_guess_);
+    fluid.solve_pressure(report, timer);
+    if (report.ppe_failed) return report;
+    timer.time("interaction", [&] {
+      force = fluid.structure_pressure_force(force_density_);
+      for (Index a = 0; a < n; ++a) interaction_[a] = (1.0 / density_[a]) * force_density_[a];  // Eq. 48
+      solver_.set_interaction(interaction_);
+    });
+    timer.time("structure", [&] {
+      if (iteration > 1) solver_.restore_state();
+      work = 0;
+      count = substep(t, dt, work);
+      for (Index a = 0; a < n; ++a) {
+        v_new_[a] = (1.0 / dt) * (solver_.position()[a] - x_old_[a]);
+        a_new_[a] = (1.0 / dt) * (v_new_[a] - v_mean_[a]);
+      }
+    });
+    const Eigen::VectorXd x = flatten(a_guess_), hx = flatten(a_new_);
+    converged = (hx - x).norm() <= spec_.tolerance * std::max(hx.norm(), floor);
+    if (converged || spec_.max_iterations == 1) break;
+    unflatten(quasi_newton_.next(x, hx), a_guess_);
+  }
+  if (!converged && spec_.max_iterations > 1) ++unconverged_;
+  a_guess_ = a_new_;  // the next step starts from this step's acceleration
+
+  fluid.end_step(dt, timer);
+  timer.time("structure", [&] {
+    solver_.update_stress();
+    fluid.move_structure(solver_.position(), v_new_, solver_.deformation_gradient());
+    v_mean_.swap(v_new_);
+  });
+  timer.time("interaction", [&] {
+    const InteractionReport<D> contact = fluid.structure_contact();
+    max_inside_ = std::max(max_inside_, contact.fluid_inside);
+    min_distance_ = std::min(min_distance_, contact.min_distance);
+  });
+  interaction_work_ += work;
+  force_sum_ += force;
+  substeps_ += count;
+  max_substeps_ = std::max(max_substeps_, count);
+  iterations_ += iteration;
+  max_iterations_seen_ = std::max(max_iterations_seen_, iteration);
+  ++steps_;
+  return report;
+}
+
+template <int D>
+JsonObject StructureCoupling<D>::summary() const {
+  JsonObject mean_force;
+  for (int d = 0; d < D; ++d) mean_force.set(d == 0 ? "fx" : d == 1 ? "fy" : "fz", steps_ > 0 ? force_sum_[d] / steps_ : 0.0);
+  JsonObject o;
+  o.set("substeps_mode", spec_.substeps > 0 ? "fixed" : "stability_limit")
+      .set("structure_stable_dt", stable_dt_)
+      .set("mean_substeps", steps_ > 0 ? double(substeps_) / steps_ : 0.0)
+      .set("max_substeps", max_substeps_)
+      .set("mean_interface_iterations", steps_ > 0 ? double(iterations_) / steps_ : 0.0)
+      .set("max_interface_iterations", max_iterations_seen_)
+      .set("unconverged_steps", unconverged_)
+      .set("fluid_inside_structure_max", static_cast<long long>(max_inside_))
+      .set("min_fluid_structure_distance", std::isfinite(min_distance_) ? min_distance_ : -1.0)
+      .set("mean_force_on_structure", mean_force)
+      .set("interaction_work", interaction_work_);
+  return o;
+}
+
+template class StructureCoupling<2>;
+template class StructureCoupling<3>;
+
+}  // namespace isph

@@ -1,0 +1,101 @@
+#pragma once
+// The coupled ISPH-TLSPH step (seed 001 Algorithm 1, §2.3). Structure particles are moving boundary
+// particles of the fluid: their velocities enter the PPE source and their rows impose the pressure
+// gradient rho (g - a_s) (PpeRowFill), so the pressure is continuous across the interface. The
+// structure feels the fluid through alpha(f->s) (Eq. 48, structure/interaction.hpp), held constant over
+// n_sub TLSPH substeps (RK4, Eqs. 43-45) that span the fluid step; the reference neighbour lists of
+// TLSPH serve every substep (the reuse seed 002 makes of neighbour lists across inner steps).
+//
+// What the fluid sees of the structure is its motion over whole fluid steps: the velocity
+// vbar^{n+1} = (x^{n+1} - x^n)/dt and the acceleration a_s = (vbar^{n+1} - vbar^n)/dt, so that the
+// fluid at the interface moves by the structure's displacement in the step. Structural vibrations
+// faster than the fluid step (the substeps resolve them) then barely reach the fluid. Handing it the
+// end-of-step velocity and (v^{n+1} - v^n)/dt instead lets bending modes above the fluid step's
+// Nyquist frequency alias into the pressure: the hydrostatic plate then grows a short-wave bending mode
+// that flips sign every step, by 10-40 % per step (measured; docs/VALIDATION.md).
+//
+// Interface iterations. The fluid's pressure depends on a_s, and a_s on the pressure. Taking a_s from
+// the previous step (a staggered scheme) is unstable when the fluid's added mass exceeds the
+// structure's mass (Causin, Gerbeau & Nobile 2005, Comput. Methods Appl. Mech. Eng. 194:4506): the
+// water column on the hydrostatic plate is 15 times heavier than the plate, and such a run blows up
+// within ten steps. So each fluid step solves the fixed point a_s = H(a_s): H solves the PPE with a_s
+// (only its right-hand side changes, and the solver keeps its set-up), computes alpha, runs the
+// substeps from the start of the step and returns the a_s they produce. The iterates come from the
+// interface quasi-Newton method IQN-ILS (Degroote, Bathe & Vierendeels 2009, Comput. Struct.
+// 87:793): with residuals r = H(a) - a, the differences of r and of H(a) between iterations (of this
+// step and of the last `reuse_steps` steps) form V and W, and
+//   a_{k+1} = H(a_k) + W c,   c = argmin |V c + r_k|   (least squares, column-pivoted QR);
+// the first iterate of a run, without any columns, is relaxed: a_1 = a_0 + 0.1 r_0. The iterations stop
+// when |r| <= tolerance max(|H(a)|, |g| sqrt(N)) (norms over the N structure particles).
+// coupling.max_iterations = 1 gives the staggered scheme.
+//
+// n_sub comes from the structure's own stability limit each fluid step, ceil(dt / dt_s) with
+// dt_s = courant h / c_p, or is fixed by coupling.substeps (the seed's fixed ratio, for comparison).
+#include <deque>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "io/case.hpp"
+#include "io/output.hpp"
+#include "sim/isph.hpp"
+#include "sim/phase_timer.hpp"
+#include "structure/tlsph.hpp"
+
+namespace isph {
+
+// IQN-ILS for a fixed point x = H(x), with the columns of earlier steps reused.
+class InterfaceQuasiNewton {
+ public:
+  explicit InterfaceQuasiNewton(int reuse_steps) : reuse_steps_(reuse_steps) {}
+  // Starts the iterations of a new step; the columns of the step that ended are kept for reuse.
+  void begin_step();
+  // The next iterate from x and H(x).
+  Eigen::VectorXd next(const Eigen::VectorXd& x, const Eigen::VectorXd& hx);
+
+ private:
+  struct Column {
+    Eigen::VectorXd dr, dh;  // differences of the residual and of H between two iterations
+  };
+  int reuse_steps_;
+  std::vector<Column> current_;
+  std::deque<std::vector<Column>> earlier_;  // newest first
+  Eigen::VectorXd last_r_, last_h_;
+  bool has_last_ = false;
+};
+
+template <int D>
+class StructureCoupling {
+ public:
+  StructureCoupling(TlsphSetup<D> setup, const CouplingSpec& coupling, Real courant, Vec<D> gravity);
+
+  // One coupled step from t to t + dt: the fluid step with the interface iterations inside it.
+  FluidStepReport step(Real t, Real dt, IsphSolver<D>& fluid, PhaseTimer& timer);
+
+  const TlsphSolver<D>& solver() const { return solver_; }
+  long long substeps() const { return substeps_; }
+  // Work done on the structure by the interaction force, integrated over the steps.
+  Real interaction_work() const { return interaction_work_; }
+  // Iterations, substeps, penetration, distances and the force on the structure, for summary.json.
+  JsonObject summary() const;
+
+ private:
+  // Runs the substeps across [t, t + dt] with the current interaction field; returns their count and
+  // adds the interaction work to `work`.
+  int substep(Real t, Real dt, Real& work);
+
+  TlsphSolver<D> solver_;
+  CouplingSpec spec_;
+  Real stable_dt_, g_norm_;
+  std::vector<Vec<D>> force_density_, interaction_, a_guess_, a_new_, x_old_, v_new_, v_mean_;
+  std::vector<Real> density_;
+  InterfaceQuasiNewton quasi_newton_;
+  long long steps_ = 0, substeps_ = 0, iterations_ = 0, unconverged_ = 0;
+  int max_substeps_ = 0, max_iterations_seen_ = 0;
+  Index max_inside_ = 0;
+  Real min_distance_;
+  Vec<D> force_sum_ = Vec<D>::zero();  // sum over steps of the force on the structure, for its mean
+  Real interaction_work_ = 0;
+};
+
+}  // namespace isph

@@ -1,0 +1,78 @@
+#pragma once
+// Fluid-structure interaction through the pressure field (seed 001 §2.3). Structure particles sit in
+// the fluid's particle set as moving boundary particles (FluidKind::structure): their positions and
+// velocities enter the PPE, whose wall rows give the wetted ones a pressure continuous with the
+// fluid's (the particles deeper than the kernel support below the wetted surface keep p = 0).
+//
+// The pressure force per unit volume on a structure particle s, f_s = rho_s alpha(f->s)_s:
+//  "gradient" (Eq. 48): f_s = -<grad p>_s, the corrected gradient over all neighbours, fluid and
+//      structure (and walls), at full volume: <grad p>_s = L_s sum_k V_k (p_k - p_s) grad W_sk.
+//  "pairwise": f_s = -sum_f V_f (p_s + p_f) grad W_sf over the fluid neighbours only: the symmetric
+//      SPH pressure force, so the force on s from f and on f from s are equal and opposite pair by pair
+//      (Eq. 46 holds exactly), and for a uniform pressure p the sum over the structure is p n A (the
+//      kernel sum of the fluid is 1/2 on the interface).
+// The difference form of Eq. 48 does not split into pair forces; its sum over the structure is the
+// pressure force on the wetted surface only as far as the discrete gradient telescopes across the
+// interface layer (docs/VALIDATION.md measures both).
+#include "kernels/operators.hpp"
+#include "sim/fluid_view.hpp"
+
+namespace isph {
+
+// f_s at structure particles only (the L of the gradient form is that of the full neighbourhood: all
+// volumes, dry boundary particles included).
+template <int D>
+struct StructurePressureForce {
+  FluidView<D> v;
+  const Real* p;
+  Mat<D>* L;
+  Vec<D>* grad_p;
+  Vec<D>* force_density;
+  bool pairwise;
+  ISPH_HD void operator()(Index a) const {
+    if (!v.is_structure(a)) return;
+    if (pairwise) {
+      const OperatorView<D>& op = v.op;
+      Vec<D> s = Vec<D>::zero();
+      for (Index k = op.nbr_offset[a]; k < op.nbr_offset[a + 1]; ++k) {
+        const Index b = op.nbr[k];
+        if (v.is_fluid(b)) s += (op.volume[b] * (p[a] + p[b])) * op.kernel.gradient(op.r(a, b));
+      }
+      force_density[a] = -1.0 * s;
+      return;
+    }
+    GradientCorrection<D>{v.op, L}(a);
+    CorrectedGradient<D>{v.op, L, p, grad_p}(a);
+    force_density[a] = -1.0 * grad_p[a];
+  }
+};
+
+// Fluid particles beside a structure: whether the particle lies inside the structure (beyond the
+// surface of its nearest structure neighbour: (x_a - x_s) · n_s < d_s) and its distance to the
+// nearest structure particle (or a large value).
+template <int D>
+struct StructureContact {
+  FluidView<D> v;
+  unsigned char* inside;
+  Real* distance;
+  ISPH_HD void operator()(Index a) const {
+    inside[a] = 0;
+    distance[a] = 1e300;
+    if (!v.is_fluid(a)) return;
+    const OperatorView<D>& op = v.op;
+    Index nearest = -1;
+    Real best = 1e300;
+    for (Index k = op.nbr_offset[a]; k < op.nbr_offset[a + 1]; ++k) {
+      const Index b = op.nbr[k];
+      if (!v.is_structure(b)) continue;
+      const Real r2 = norm2(op.r(a, b));
+      if (r2 < best) best = r2, nearest = b;
+    }
+    if (nearest < 0) return;
+    distance[a] = sqrt(best);
+    const Vec<D> n = v.wall_normal[nearest];
+    if (norm2(n) > 0 && dot(op.r(a, nearest), n) < v.wall_depth[nearest]) inside[a] = 1;
+  }
+};
+
+}  // namespace isph
