@@ -11,20 +11,16 @@ or one older than probes.csv, left by an earlier run) are skipped with a note on
                                             [--only hydrostatic,dam_break,couette,performance]
 """
 import argparse
-import glob
-import json
 import math
 import os
 import sys
 
-import h5py
-import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from report_common import (ROOT, closest, finished_run, fmt, pct, read_probes, read_snapshot, run_state, save,
+                           snapshot_list, summary, table)
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 RHO, G = 1000.0, 9.81
 TANK_H = 1.0  # hydrostatic tank depth [m]
 # Dam break: a column a wide and 2a high, dx = a/40, in a tank 4a wide.
@@ -43,85 +39,6 @@ CO_N = (10, 20, 40)  # H/dx
 CO_TIMES = (0.05, 0.1, 0.2, 0.5, 1.0)
 PHASES = ("neighbours", "predictor", "free_surface", "ppe_assembly", "ppe_solve", "projection",
           "shifting", "output", "setup")
-
-
-def fmt(x, digits=4):
-    """x to `digits` significant digits, '-' when missing."""
-    return "-" if x is None or not np.isfinite(x) else f"{x:.{digits}g}"
-
-
-def pct(x, ref):
-    return 100.0 * (x - ref) / abs(ref)
-
-
-def table(header, rows):
-    print("| " + " | ".join(header) + " |")
-    print("|" + "---|" * len(header))
-    for row in rows:
-        print("| " + " | ".join(str(c) for c in row) + " |")
-
-
-def run_state(run):
-    probes, summary_path = os.path.join(run, "probes.csv"), os.path.join(run, "summary.json")
-    if not os.path.exists(probes):
-        return "missing"
-    # isph writes summary.json last; one older than probes.csv was left by an earlier run.
-    if not os.path.exists(summary_path) or os.path.getmtime(summary_path) + 1.0 < os.path.getmtime(probes):
-        return "in progress"
-    return "finished"
-
-
-def finished_run(runs, name):
-    """The folder of a finished run, else None (with a note on stderr)."""
-    run = os.path.join(runs, name)
-    state = run_state(run)
-    if state == "finished":
-        return run
-    print(f"note: {run}: {state}, skipped", file=sys.stderr)
-    return None
-
-
-def summary(run):
-    with open(os.path.join(run, "summary.json")) as f:
-        return json.load(f)
-
-
-def read_probes(run):
-    """probes.csv as {column name: array}; the names keep their dots (bottom.p)."""
-    with open(os.path.join(run, "probes.csv")) as f:
-        lines = [line for line in f.read().splitlines() if line.strip()]
-    names = [n.strip() for n in lines[0].split(",")]
-    data = np.loadtxt(lines[1:], delimiter=",", ndmin=2)
-    return {n: data[:, k] for k, n in enumerate(names)}
-
-
-def snapshot_list(run):
-    """[(time, path)] of the snapshots up to the end of the run (later files are stale)."""
-    end = summary(run).get("simulated_time", math.inf)
-    out = []
-    for path in sorted(glob.glob(os.path.join(run, "snapshots", "snapshot_*.h5"))):
-        with h5py.File(path, "r") as h:
-            t = float(h.attrs["time"])
-        if t <= end * (1 + 1e-9):
-            out.append((t, path))
-    return out
-
-
-def read_snapshot(path):
-    with h5py.File(path, "r") as h:
-        return {k: h[k][:] for k in h}
-
-
-def closest(snaps, t):
-    return min(range(len(snaps)), key=lambda i: abs(snaps[i][0] - t))
-
-
-def save(fig, args, name):
-    os.makedirs(args.figures, exist_ok=True)
-    path = os.path.join(args.figures, name)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    print(f"\n<!-- figure {os.path.relpath(path, ROOT) if path.startswith(ROOT) else path} -->")
 
 
 # ----------------------------------------------------------------------------------------------

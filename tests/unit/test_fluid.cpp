@@ -279,3 +279,27 @@ TEST(EddyViscosity, SimpleShear) {
     ASSERT_NEAR(nu_t[a], cs * cs * kernel.h * kernel.h * gamma, 1e-12);
   }
 }
+
+// The FSI shifting layer (Eqs. 27-30): the normal shift keeps its sign and shrinks, to about
+// C^2 R_n^2 of itself where the particles are regular (small R_n), much less so where they crowd
+// against the structure (large R_n); nothing changes without a normal concentration gradient.
+TEST(FsiShiftingLayer, ShortensTheNormalShiftByTheExponentialLaw) {
+  ShiftDisplacement<2> s{};
+  s.coefficient = 0.05;
+  s.zeta = 1e-4;
+  for (const double R_n : {0.5, 2.0, 20.0, 60.0}) {
+    for (const double sign : {1.0, -1.0}) {
+      const double dr_n = sign * s.coefficient * s.zeta * R_n;  // Eq. 21 along the normal
+      const double after = dr_n + s.fsi_relocation(dr_n, sign * R_n);
+      EXPECT_GE(after * dr_n, 0.0) << R_n;                  // same sign (or zero)
+      EXPECT_LT(std::fabs(after), std::fabs(dr_n)) << R_n;  // shorter
+      const double x = 2 * s.coefficient * s.coefficient * R_n * R_n;  // |dr_n| / |d| (Eq. 29)
+      const double d = s.zeta / (2 * s.coefficient * R_n);
+      EXPECT_NEAR(std::fabs(after), std::fabs(dr_n) - d * (1 - std::exp(-x)), 1e-15) << R_n;
+    }
+  }
+  EXPECT_EQ(s.fsi_relocation(1e-6, 0.0), 0.0);
+  // regular particles: about C^2 R_n^2 |dr_n| is kept
+  const double dr_n = s.coefficient * s.zeta * 0.5;
+  EXPECT_NEAR((dr_n + s.fsi_relocation(dr_n, 0.5)) / dr_n, s.coefficient * s.coefficient * 0.25, 1e-3);
+}

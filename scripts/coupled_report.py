@@ -1,0 +1,207 @@
+#!/usr/bin/python3
+"""Tables and figures of the coupled ISPH-TLSPH validation (docs/VALIDATION.md): hydrostatic plate
+and elastic gate.
+
+Reads the run folders written by `isph run` under --runs and the gate references under --reference;
+writes PNG figures into --figures and prints markdown tables to stdout. Unfinished runs are skipped
+with a note on stderr.
+
+  /usr/bin/python3 scripts/coupled_report.py [--runs DIR] [--figures DIR] [--reference DIR]
+"""
+import argparse
+import math
+import os
+import sys
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from report_common import (ROOT, closest, finished_run, fmt, pct, read_probes, read_snapshot, save,
+                           snapshot_list, summary, table)
+
+G = 9.81
+# Hydrostatic plate (seed 001 §3.2.1): static mid-span deflection, plane strain, with the plate's weight.
+PLATE = dict(L=1.0, T=0.05, H=2.0, rho_w=1000.0, rho_s=2700.0, E=67.5e9, nu=0.34)
+PLATE_STATIC = (12 * G * (1 - PLATE["nu"] ** 2) * (PLATE["rho_w"] * PLATE["H"] + PLATE["rho_s"] * PLATE["T"]) *
+                PLATE["L"] ** 4 / (384 * PLATE["E"] * PLATE["T"] ** 3))
+PLATE_RUNS = (("plate_T4", 4), ("plate_T8", 8), ("plate_T12", 12))  # (folder, T/dx)
+PLATE_MEAN_FROM = 0.1  # [s] the seed's averaging window starts here
+# Elastic gate (Antoci et al. 2007): reference tip displacement histories.
+GATE_REFS = (("khayyer_2018_isph_sph", "Khayyer et al. 2018, ISPH-SPH", "o"),
+             ("yang_2012_sph_fem", "Yang et al. 2012, SPH-FEM", "s"),
+             ("ng_2020_sph_vcpm_alpha_1", "Ng et al. 2020, SPH-VCPM", "^"))
+GATE_SNAPSHOT_TIMES = (0.04, 0.08, 0.12, 0.16, 0.20, 0.24)  # seed Fig. 17
+COUPLED_PHASES = ("neighbours", "predictor", "free_surface", "ppe_assembly", "ppe_solve", "interaction",
+                  "structure", "projection", "shifting", "output", "setup")
+
+
+def coupling(s):
+    return s.get("performance", {}).get("coupling", {})
+
+
+def run_line(s):
+    c = coupling(s)
+    return (f"Run: {s['status']} ({s['message']}), t = {fmt(s['simulated_time'])} s, wall time "
+            f"{fmt(s['wall_time_s'], 3)} s; {s['particles']['fluid']} fluid, {s['particles']['structure']} "
+            f"structure particles; {fmt(c.get('mean_substeps'), 3)} substeps and "
+            f"{fmt(c.get('mean_interface_iterations'), 3)} interface iterations per fluid step; fluid "
+            f"inside the structure: {c.get('fluid_inside_structure_max')}; closest fluid-structure distance "
+            f"{fmt(c.get('min_fluid_structure_distance'), 3)} m.")
+
+
+def phase_table(runs):
+    rows = []
+    for name, s in runs:
+        ph = s["phases"]
+        total = sum(ph.values())
+        rows.append([name, fmt(s["wall_time_s"], 3)] + [f"{100 * ph.get(p, 0) / total:.1f}" for p in COUPLED_PHASES])
+    table(["run", "wall [s]"] + [f"{p} %" for p in COUPLED_PHASES], rows)
+
+
+def save_history(fig, ax, args, ylabel, name):
+    """Labels a time-history axis, adds its legend and saves the figure."""
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel(ylabel)
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    save(fig, args, name)
+
+
+# ----------------------------------------------------------------------------------------------
+
+
+def plate(args):
+    print("\n### Hydrostatic plate\n")
+    found = [(name, n, run) for name, n in PLATE_RUNS if (run := finished_run(args.runs, name)) is not None]
+    if not found:
+        print("_no finished run_")
+        return
+    fig, ax = plt.subplots(figsize=(8, 4))
+    rows, perf = [], []
+    for name, n, run in found:
+        d, s = read_probes(run), summary(run)
+        t, uy = d["time"], d["midspan.uy"]
+        window = t >= PLATE_MEAN_FROM
+        mean = float(np.mean(uy[window])) if window.any() else math.nan
+        rows.append([f"T/dx = {n}", f"{fmt(t[-1], 3)} s", fmt(-mean), pct(-mean, PLATE_STATIC),
+                     fmt(-uy.min()), fmt(s["wall_time_s"], 3),
+                     fmt(s["wall_time_s"] / s["simulated_time"], 3)])
+        perf.append((name, s))
+        ax.plot(t, uy * 1e6, lw=1, label=f"ISPH-TLSPH, T/dx = {n}")
+    ax.axhline(-PLATE_STATIC * 1e6, color="k", ls="--", lw=1, label="static (Eq. 53)")
+    save_history(fig, ax, args, "mid-span deflection u_y [µm]", "coupled_plate.png")
+    print(f"\nStatic deflection (reference README, seed Eq. 53): {PLATE_STATIC:.4g} m.\n")
+    table(["resolution", "simulated", f"mean -u_y, t ≥ {PLATE_MEAN_FROM} s [m]", "error %", "peak -u_y [m]",
+           "wall [s]", "wall per simulated s"],
+          [[r[0], r[1], r[2], f"{r[3]:+.1f}", r[4], r[5], r[6]] for r in rows])
+    print()
+    for name, s in perf:
+        print(f"- {name}: " + run_line(s))
+    print()
+    phase_table(perf)
+
+
+# ----------------------------------------------------------------------------------------------
+
+
+def read_reference(path):
+    data = np.loadtxt(path, delimiter=",", ndmin=2)
+    return data[np.argsort(data[:, 0])]
+
+
+def rmse_against(t, u, ref):
+    """RMSE of u(t) against the reference points inside the run's time range."""
+    inside = (ref[:, 0] >= t[0]) & (ref[:, 0] <= t[-1])
+    if not inside.any():
+        return math.nan
+    return float(np.sqrt(np.mean((np.interp(ref[inside, 0], t, u) - ref[inside, 1]) ** 2)))
+
+
+def gate(args):
+    print("\n### Elastic gate\n")
+    run = finished_run(args.runs, "gate_T4")
+    if run is None:
+        print("_no finished run_")
+        return
+    d, s = read_probes(run), summary(run)
+    t, ux, uy = d["time"], d["tip.ux"], d["tip.uy"]
+    folder = os.path.join(args.reference, "antoci_2007_elastic_gate")
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+    rows = []
+    for comp, u, ax in (("x", ux, axes[0]), ("y", uy, axes[1])):
+        ax.plot(t, u * 1e3, "k-", lw=1.5, label="ISPH-TLSPH (this code), T/dx = 4")
+        for key, label, marker in GATE_REFS:
+            path = os.path.join(folder, f"ng_2020_elastic_dam_break_{comp}_displacement_{key}.csv")
+            if not os.path.exists(path):
+                continue
+            ref = read_reference(path)
+            ax.plot(ref[:, 0], ref[:, 1] * 1e3, marker, ms=3, mfc="none", label=label)
+            rows.append([comp, label, fmt(rmse_against(t, u, ref) * 1e3, 3), fmt(ref[:, 1].max() * 1e3, 3),
+                         fmt(ref[np.argmax(ref[:, 1]), 0], 3)])
+        ax.set_xlabel("t [s]")
+        ax.set_ylabel(f"tip u_{comp} [mm]")
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=7)
+    fig.tight_layout()
+    save(fig, args, "coupled_gate_tip.png")
+    print(f"\nPeak tip u_x: {fmt(ux.max() * 1e3, 3)} mm at t = {fmt(t[np.argmax(ux)], 3)} s; peak u_y: "
+          f"{fmt(uy.max() * 1e3, 3)} mm at t = {fmt(t[np.argmax(uy)], 3)} s.\n")
+    table(["component", "reference", "RMSE [mm]", "reference peak [mm]", "at t [s]"], rows)
+    print("\n- " + run_line(s) + "\n")
+    phase_table([("gate_T4", s)])
+    gate_energy(args, run)
+    gate_snapshots(args, run)
+
+
+def gate_energy(args, run):
+    e = read_probes(run, "energy.csv")
+    t = e["time"]
+    fig, ax = plt.subplots(figsize=(8, 4))
+    base = e["total"][0]
+    for key, label in (("fluid_kinetic", "fluid kinetic"), ("fluid_potential", "fluid potential"),
+                       ("structure_kinetic", "structure kinetic"), ("structure_strain", "structure strain"),
+                       ("structure_potential", "structure potential"), ("total", "total")):
+        v = e[key] - (e[key][0] if key in ("fluid_potential", "total") else 0.0)
+        ax.plot(t, v, lw=1.5 if key == "total" else 1, label=label + (" (change)" if key in ("fluid_potential", "total") else ""))
+    save_history(fig, ax, args, "energy per unit depth [J/m]", "coupled_gate_energy.png")
+    released = e["fluid_potential"][0] - e["fluid_potential"].min()
+    print(f"\nEnergy: the total changes by {fmt(e['total'][-1] - base, 3)} J/m over the run "
+          f"({fmt(100 * (e['total'][-1] - base) / released, 3)} % of the potential energy released, "
+          f"{fmt(released, 3)} J/m); largest excursion {fmt(np.max(np.abs(e['total'] - base)), 3)} J/m.")
+
+
+def gate_snapshots(args, run):
+    snaps = snapshot_list(run)
+    if not snaps:
+        return
+    fig, axes = plt.subplots(2, 3, figsize=(12, 6), sharex=True, sharey=True)
+    for ax, want in zip(axes.ravel(), GATE_SNAPSHOT_TIMES):
+        t, path = snaps[closest(snaps, want)]
+        sn = read_snapshot(path)
+        x, kind, p = sn["position"], sn["kind"].ravel(), sn["pressure"].ravel()
+        fluid, structure = kind == 0, kind == 2
+        sc = ax.scatter(x[fluid, 0], x[fluid, 1], c=p[fluid], s=0.5, cmap="viridis", vmin=0, vmax=1400)
+        ax.scatter(x[structure, 0], x[structure, 1], c="r", s=0.5)
+        ax.set_title(f"t = {t:.2f} s", fontsize=9)
+        ax.set_xlim(-0.01, 0.3)
+        ax.set_ylim(-0.01, 0.16)
+        ax.set_aspect("equal")
+    fig.colorbar(sc, ax=axes, label="pressure [Pa]", shrink=0.8)
+    save(fig, args, "coupled_gate_snapshots.png")
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--runs", default=os.path.join(ROOT, "runs"))
+    ap.add_argument("--figures", default=os.path.join(ROOT, "docs", "figures"))
+    ap.add_argument("--reference", default=os.path.join(ROOT, "..", "shared", "reference"))
+    args = ap.parse_args(argv)
+    if not os.path.isdir(args.reference) and os.path.isdir("/work/shared/reference"):
+        args.reference = "/work/shared/reference"
+    plate(args)
+    gate(args)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
