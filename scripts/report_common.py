@@ -69,7 +69,7 @@ def read_probes(run, name="probes.csv"):
 
 def snapshot_list(run):
     """[(time, path)] of the snapshots up to the end of the run (later files are stale)."""
-    end = summary(run).get("simulated_time", math.inf)
+    end = summary(run).get("simulated_time", math.inf) if os.path.exists(os.path.join(run, "summary.json")) else math.inf
     out = []
     for path in sorted(glob.glob(os.path.join(run, "snapshots", "snapshot_*.h5"))):
         with h5py.File(path, "r") as h:

@@ -25,6 +25,7 @@ if [ "${1:-all}" != "report" ]; then
   run plate_T4 cases/hydrostatic_plate.toml --set dx=0.0125 --set end_time=0.5 --set output.interval=0.001 \
     --set output.snapshot_interval=0.05 &
   run gate_T4 cases/elastic_gate.toml &
+  run plate_dry cases/hydrostatic_plate_dry.toml
   wait
   if [ -n "${PLATE_FINE:-}" ]; then
     run plate_T8 cases/hydrostatic_plate.toml --set dx=0.00625
