@@ -79,11 +79,9 @@ struct VelocityPredictor {
 };
 
 // Projection, Eq. 18: u^{n+1}_a = u*_a - (dt/rho) <grad p>_a, with <grad p> the corrected gradient
-// (CorrectedGradient); splash particles (Fig. 2: p = 0, next to no neighbours) move ballistically,
-// u^{n+1} = u*, as the gradient from their degenerate neighbourhood is not a pressure force (with it,
-// the dam break at a/dx = 20 gains 15 % energy by t sqrt(g/a) = 7 instead of 7.5 %). Then a
-// kinematic impermeability condition: a fluid particle closer than dx/2 to the surface of its
-// nearest wall neighbour loses the velocity component (relative to the wall) that carries it further in. The PPE keeps interior fluid out of walls through the wall
+// (CorrectedGradient), followed by a kinematic impermeability condition: a fluid particle closer than
+// dx/2 to the surface of its nearest wall neighbour loses the velocity component (relative to the
+// wall) that carries it further in. The PPE keeps interior fluid out of walls through the wall
 // pressure, but free-surface particles (p = 0, alpha = 0: a thin front running along a floor) carry no
 // incompressibility constraint, and without this they can drift into the wall.
 template <int D>
@@ -91,14 +89,12 @@ struct Project {
   FluidView<D> v;
   const Vec<D>* grad_p;
   const Vec<D>* u_star;
-  const SurfaceClass* cls;
   Real density;
   Real dt;
   Vec<D>* u_new;
   ISPH_HD void operator()(Index a) const {
     if (!v.is_fluid(a)) return;
-    Vec<D> u = u_star[a];
-    if (cls[a] != SurfaceClass::splash) u = u - (dt / density) * grad_p[a];
+    Vec<D> u = u_star[a] - (dt / density) * grad_p[a];
     const OperatorView<D>& op = v.op;
     Index wall = -1;
     Real nearest = 1e300;

@@ -276,7 +276,7 @@ void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
   // Eqs. 18-19: projection and position update.
   timer.time("projection", [&] {
     parallel_for(exec_, n, CorrectedGradient<D>{pv.op, L_.data(), p_.data(), grad_p_.data()});
-    parallel_for(exec_, n, Project<D>{v, grad_p_.data(), u_star_.data(), cls_.data(), density_, dt, u_new_.data()});
+    parallel_for(exec_, n, Project<D>{v, grad_p_.data(), u_star_.data(), density_, dt, u_new_.data()});
     parallel_for(exec_, n, Advance<D>{kind_.data(), wall_velocity_.data(), u_new_.data(), x_old_.data(), dt, period_,
                                       u_.data(), x_.data()});
   });
