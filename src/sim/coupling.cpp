@@ -77,10 +77,12 @@ int StructureCoupling<D>::substep(Real t, Real dt, Real& work) {
   const int count =
       spec_.substeps > 0 ? spec_.substeps : std::max(1, static_cast<int>(std::ceil(dt / stable_dt_ - 1e-9)));
   const Real h = dt / count;
+  Real power = solver_.interaction_power();
   for (int k = 0; k < count; ++k) {
-    const Real p0 = solver_.interaction_power();
     solver_.step(t + k * h, h);
-    work += 0.5 * h * (p0 + solver_.interaction_power());
+    const Real next = solver_.interaction_power();
+    work += 0.5 * h * (power + next);  // trapezoidal rule
+    power = next;
   }
   return count;
 }
