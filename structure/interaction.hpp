@@ -59,19 +59,11 @@ struct StructureContact {
     inside[a] = 0;
     distance[a] = 1e300;
     if (!v.is_fluid(a)) return;
-    const OperatorView<D>& op = v.op;
-    Index nearest = -1;
-    Real best = 1e300;
-    for (Index k = op.nbr_offset[a]; k < op.nbr_offset[a + 1]; ++k) {
-      const Index b = op.nbr[k];
-      if (!v.is_structure(b)) continue;
-      const Real r2 = norm2(op.r(a, b));
-      if (r2 < best) best = r2, nearest = b;
-    }
+    Real r2;
+    const Index nearest = v.nearest_neighbour(a, [&](Index b) { return v.is_structure(b); }, r2);
     if (nearest < 0) return;
-    distance[a] = sqrt(best);
-    const Vec<D> n = v.wall_normal[nearest];
-    if (norm2(n) > 0 && dot(op.r(a, nearest), n) < v.wall_depth[nearest]) inside[a] = 1;
+    distance[a] = sqrt(r2);
+    if (norm2(v.wall_normal[nearest]) > 0 && v.beyond_surface(a, nearest) < 0) inside[a] = 1;
   }
 };
 

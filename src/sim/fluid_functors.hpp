@@ -95,19 +95,12 @@ struct Project {
   ISPH_HD void operator()(Index a) const {
     if (!v.is_fluid(a)) return;
     Vec<D> u = u_star[a] - (dt / density) * grad_p[a];
-    const OperatorView<D>& op = v.op;
-    Index wall = -1;
-    Real nearest = 1e300;
-    for (Index k = op.nbr_offset[a]; k < op.nbr_offset[a + 1]; ++k) {
-      const Index b = op.nbr[k];
-      const Real r2 = norm2(op.r(a, b));
-      if (!v.is_fluid(b) && r2 < nearest && norm2(v.wall_normal[b]) > 0) nearest = r2, wall = b;
-    }
+    Real r2;
+    const Index wall = v.nearest_neighbour(a, [&](Index b) { return !v.is_fluid(b) && norm2(v.wall_normal[b]) > 0; }, r2);
     if (wall >= 0) {
       const Vec<D> n = v.wall_normal[wall];
-      const Real distance = dot(op.r(a, wall), n) - v.wall_depth[wall];
       const Real approach = dot(u - v.wall_velocity[wall], n);
-      if (distance < 0.5 * v.dx && approach < 0) u = u - approach * n;
+      if (v.beyond_surface(a, wall) < 0.5 * v.dx && approach < 0) u = u - approach * n;
     }
     u_new[a] = u;
   }

@@ -50,6 +50,24 @@ struct FluidView {
     return 0.5 * (1 + cos(pi * (q - 0.5) / 0.5));
   }
 
+  // The neighbour of a nearest to it among those `keep(b)` accepts, or -1; its squared distance in r2.
+  template <class Keep>
+  ISPH_HD Index nearest_neighbour(Index a, Keep keep, Real& r2) const {
+    Index nearest = -1;
+    r2 = 1e300;
+    for (Index k = op.nbr_offset[a]; k < op.nbr_offset[a + 1]; ++k) {
+      const Index b = op.nbr[k];
+      if (!keep(b)) continue;
+      const Real d2 = norm2(op.r(a, b));
+      if (d2 < r2) r2 = d2, nearest = b;
+    }
+    return nearest;
+  }
+
+  // How far particle a lies beyond the surface of boundary particle b, along b's normal (negative:
+  // on b's side of the surface, inside the wall or structure).
+  ISPH_HD Real beyond_surface(Index a, Index b) const { return dot(op.r(a, b), wall_normal[b]) - wall_depth[b]; }
+
   // Weight of neighbour b in the free-surface measures of fluid particle a (div r, grad Psi).
   ISPH_HD Real surface_weight(Index a, Index b) const { return is_fluid(b) ? 1 : wall_wetness(a, b); }
 
@@ -61,7 +79,7 @@ struct FluidView {
   ISPH_HD Vec<D> velocity_seen(Index a, Index b, const Vec<D>* u) const {
     if (is_fluid(b)) return u[b];
     const Vec<D> uw = wall_velocity[b];
-    const Real da = fmax(dot(op.r(a, b), wall_normal[b]) - wall_depth[b], 0.5 * dx);
+    const Real da = fmax(beyond_surface(a, b), 0.5 * dx);
     return uw - (wall_depth[b] / da) * (u[a] - uw);
   }
 
