@@ -19,18 +19,19 @@
 
 namespace isph {
 
-// f_s at structure particles only (the L of the gradient form is that of the full neighbourhood: all
-// volumes, dry boundary particles included).
+// f at the boundary particles of one kind (structure, or wall for the work of moving walls); the L
+// of the gradient form is that of the full neighbourhood: all volumes, dry boundary particles included.
 template <int D>
-struct StructurePressureForce {
+struct BoundaryPressureForce {
   FluidView<D> v;
   const Real* p;
   Mat<D>* L;
   Vec<D>* grad_p;
   Vec<D>* force_density;
   bool pairwise;
+  FluidKind target;
   ISPH_HD void operator()(Index a) const {
-    if (!v.is_structure(a)) return;
+    if (v.kind[a] != target) return;
     if (pairwise) {
       const OperatorView<D>& op = v.op;
       Vec<D> s = Vec<D>::zero();

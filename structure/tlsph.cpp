@@ -41,17 +41,21 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
       v_(std::move(s.v)),
       volume_(std::move(s.volume)),
       material_(std::move(s.material)),
-      fixed_(std::move(s.fixed)) {
+      fixed_(std::move(s.fixed)),
+      motion_(std::move(s.motion)),
+      motions_(std::move(s.motions)) {
   if (exec_.device != Device::cpu)
     throw std::runtime_error("the TLSPH time loop runs on the cpu device only in this version");
   if (loads_.size() > 8) throw std::invalid_argument("at most 8 loads are supported");
   x_ = X_;
+  if (motion_.empty()) motion_.assign(n_, -1);
   acc_.assign(n_, Vec<D>::zero());
   mass_.resize(n_);
   for (Index a = 0; a < n_; ++a) {
     mass_[a] = materials_[material_[a]].density * volume_[a];
     if (fixed_[a]) v_[a] = Vec<D>::zero();
   }
+  prescribe_clamps(0);  // the clamps' velocity at t = 0
   load_acc_.reserve(loads_.size() * n_);
   for (const auto& l : loads_) load_acc_.insert(load_acc_.end(), l.acc.begin(), l.acc.end());
 
@@ -168,6 +172,7 @@ void TlsphSolver<D>::step_rk4(Real t, Real dt) {
   constexpr Real w_next[4] = {0.5, 0.5, 1.0, 1.0};
   constexpr Real t_stage[4] = {0.0, 0.5, 0.5, 1.0};
   for (int k = 0; k < 4; ++k) {
+    prescribe_clamps(t + t_stage[k] * dt);
     evaluate(t + t_stage[k] * dt);
     parallel_for(exec_, n_,
                  RungeKuttaStage<D>{n_, x0_.data(), v0_.data(), acc_.data(), fixed_.data(), x_.data(), v_.data(),
@@ -175,6 +180,7 @@ void TlsphSolver<D>::step_rk4(Real t, Real dt) {
   }
   x_.swap(x_sum_);
   v_.swap(v_sum_);
+  prescribe_clamps(t + dt);
 }
 
 template <int D>
@@ -184,8 +190,19 @@ void TlsphSolver<D>::step_verlet(Real t, Real dt) {
     verlet_started_ = true;
   }
   parallel_for(exec_, n_, VerletKickDrift<D>{acc_.data(), fixed_.data(), x_.data(), v_.data(), 0.5 * dt, dt});
+  prescribe_clamps(t + dt);
   evaluate(t + dt);
   parallel_for(exec_, n_, VerletKickDrift<D>{acc_.data(), fixed_.data(), x_.data(), v_.data(), 0.5 * dt, 0.0});
+}
+
+template <int D>
+void TlsphSolver<D>::prescribe_clamps(Real t) {
+  if (motions_.empty()) return;
+  for (Index a = 0; a < n_; ++a) {
+    if (motion_[a] < 0) continue;
+    x_[a] = motions_[motion_[a]].position(X_[a], t);
+    v_[a] = motions_[motion_[a]].velocity(X_[a], t);
+  }
 }
 
 template <int D>

@@ -8,6 +8,7 @@
 #include "core/parallel.hpp"
 #include "core/types.hpp"
 #include "kernels/smoothing_kernel.hpp"
+#include "sim/prescribed_motion.hpp"
 #include "structure/tlsph_functors.hpp"
 
 namespace isph {
@@ -31,6 +32,8 @@ struct TlsphSetup {
   std::vector<int> material;
   std::vector<int> body;        // particles interact only within their body
   std::vector<unsigned char> fixed;
+  std::vector<Index> motion;    // clamped particles: index in `motions` (-1: the clamp stands still)
+  std::vector<RigidMotion<D>> motions;
   std::vector<ElasticMaterial> materials;
   std::vector<LoadField<D>> loads;
   SmoothingKernel<D> kernel;
@@ -93,6 +96,7 @@ class TlsphSolver {
   void evaluate(Real t);  // acc at the current (x, v)
   void step_rk4(Real t, Real dt);
   void step_verlet(Real t, Real dt);
+  void prescribe_clamps(Real t);  // moving clamps: x and v at time t
 
   Exec exec_;
   Index n_ = 0;
@@ -107,6 +111,8 @@ class TlsphSolver {
   std::vector<Real> volume_, mass_;
   std::vector<int> material_;
   std::vector<unsigned char> fixed_;
+  std::vector<Index> motion_;
+  std::vector<RigidMotion<D>> motions_;
   std::vector<Index> nbr_offset_, nbr_;
   std::vector<Vec<D>> grad_, cgrad_;
   std::vector<Real> hg_weight_;

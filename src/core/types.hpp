@@ -1,6 +1,7 @@
 #pragma once
 // Small fixed-size vector and matrix types usable in host and device code.
 // Functors use these rather than Eigen so that the same code compiles under nvcc.
+#include <array>
 #include <cmath>
 #include <cstdint>
 
@@ -174,6 +175,14 @@ ISPH_HD inline Mat<3> inverse(const Mat<3>& a) {
   r(2, 1) = (a(0, 1) * a(2, 0) - a(0, 0) * a(2, 1)) * inv;
   r(2, 2) = (a(0, 0) * a(1, 1) - a(0, 1) * a(1, 0)) * inv;
   return r;
+}
+
+// The first D components of a case-file vector (host code).
+template <int D>
+inline Vec<D> to_vec(const std::array<double, 3>& a) {
+  Vec<D> v;
+  for (int d = 0; d < D; ++d) v[d] = a[d];
+  return v;
 }
 
 }  // namespace isph

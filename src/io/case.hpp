@@ -51,6 +51,34 @@ struct InitialVelocitySpec {
   std::array<double, 3> direction{0, 1, 0};  // direction of the velocity (unit)
 };
 
+// Prescribed rigid motion of a wall body, or of the clamped particles of a structure body (their
+// clamp moves with it: the baffle of a rolling tank). X is a particle's position as the case file draws
+// it, which is its position at t = 0: the body moves by s(t) - s(0).
+//  "none":              fixed.
+//  "constant_velocity": x = X + velocity t.
+//  "translation":       x = X + (s(t) - s(0)) direction, s in metres.
+//  "rotation" (2D):     x = pivot + R(theta) (X - pivot), theta = s(t) - s(0) in degrees, counter-clockwise.
+// s(t) follows `profile`:
+//  "polynomial": s = sum_k coefficients[k] t^k, held at s(until) after t = until (until = 0: never held);
+//  "sine":       s = amplitude sin(2 pi t / period + phase);
+//  "csv":        rows "time, s" of a file, strictly increasing in time and reaching end_time,
+//                interpolated by a natural cubic spline (so that the velocity and acceleration are
+//                continuous); before the first row the first value holds.
+struct MotionSpec {
+  std::string type = "none";                 // none | constant_velocity | translation | rotation
+  std::array<double, 3> velocity{};          // constant_velocity [m/s]
+  std::array<double, 3> direction{0, 1, 0};  // translation (unit)
+  std::array<double, 3> pivot{};             // rotation
+  std::string profile = "polynomial";        // translation, rotation: polynomial | sine | csv
+  std::vector<double> coefficients;          // polynomial [m or deg, per s^k]
+  double until = 0.0;                        // polynomial [s]
+  double amplitude = 0.0;                    // sine [m or deg]
+  double period = 0.0;                       // sine [s]
+  double phase = 0.0;                        // sine [rad]
+  std::string file;                          // csv: as given, resolved against the case file's folder
+  std::vector<double> times, values;         // csv: the rows, read by the loader
+};
+
 // A body: a primitive filled on a lattice of spacing dx (cell-centred: the lattice points
 // inside the shape, with the lattice anchored at `lattice_origin`).
 struct BodySpec {
@@ -61,10 +89,7 @@ struct BodySpec {
   std::vector<Shape> clamps;                 // particles of this body inside any clamp are fixed
   std::array<double, 3> lattice_origin{};    // lattice points at origin + (i + 1/2) dx
   InitialVelocitySpec initial_velocity;
-  // Walls only: prescribed motion. "none" (fixed) or "constant_velocity" (the wall particles move
-  // with `velocity`, e.g. the moving plate of Couette flow).
-  std::string motion = "none";               // none | constant_velocity
-  std::array<double, 3> velocity{};          // constant_velocity [m/s]
+  MotionSpec motion;                         // walls; structures: their clamps
 };
 
 // An applied load. "edge" and "point": a total force shared equally by the body's particles inside

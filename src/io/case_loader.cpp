@@ -557,6 +557,42 @@ void read_fields(Table& t, InitialVelocitySpec& v) {
   }
 }
 
+void read_fields(Table& t, MotionSpec& m) {
+  if (!read_choice(t, "type", m.type, {"none", "constant_velocity", "translation", "rotation"}, Need::required)) {
+    t.ignore_rest();
+    return;
+  }
+  if (m.type == "none") return;
+  if (m.type == "constant_velocity") {
+    t.read("velocity", m.velocity, Need::required);
+    return;
+  }
+  if (m.type == "translation") {
+    read_direction(t, "direction", m.direction);
+  } else if (t.ctx().dimension != 2) {
+    t.problem("type", "\"rotation\" is only for dimension = 2 (dimension = " + std::to_string(t.ctx().dimension) + ")");
+    t.ignore_rest();
+    return;
+  } else {
+    t.read("pivot", m.pivot, Need::required);
+  }
+  if (!read_choice(t, "profile", m.profile, {"polynomial", "sine", "csv"}, Need::required)) {
+    t.ignore_rest();
+    return;
+  }
+  if (m.profile == "polynomial") {
+    if (t.read("coefficients", m.coefficients, Need::required) && m.coefficients.empty())
+      t.problem("coefficients", "must not be empty");
+    read_non_negative(t, "until", m.until);
+  } else if (m.profile == "sine") {
+    t.read("amplitude", m.amplitude, Need::required);
+    read_positive(t, "period", m.period, Need::required);
+    t.read("phase", m.phase);
+  } else {
+    t.read("file", m.file, Need::required);
+  }
+}
+
 constexpr std::pair<const char*, ParticleKind> kKinds[] = {
     {"fluid", ParticleKind::fluid}, {"wall", ParticleKind::wall}, {"structure", ParticleKind::structure}};
 
@@ -603,18 +639,10 @@ void read_fields(Table& t, BodySpec& b) {
               "type \"cantilever_mode\" is only for kind = \"structure\"; "
               "a fluid takes \"none\" or \"uniform\"");
   }
-  if (!wall) {
-    reject(t, "motion", "only for kind = \"wall\" (" + kind_is + ")");
-    reject(t, "velocity",
-           "only for kind = \"wall\" with motion = \"constant_velocity\" (" + kind_is +
-               "; see initial_velocity)");
-  } else if (!read_choice(t, "motion", b.motion, {"none", "constant_velocity"})) {
-    t.ignore("velocity");  // cannot be judged
-  } else if (b.motion == "constant_velocity") {
-    t.read("velocity", b.velocity, Need::required);
-  } else {
-    reject(t, "velocity", "only with motion = \"constant_velocity\"");
-  }
+  if (b.kind == ParticleKind::fluid)
+    reject(t, "motion", "only for kind = \"wall\" or \"structure\" (" + kind_is + "; see initial_velocity)");
+  else
+    t.read("motion", b.motion);
 }
 
 void read_fields(Table& t, LoadSpec& l) {
@@ -759,7 +787,80 @@ void check_stages(CaseSpec& c, Context& ctx) {
   }
 }
 
+// The rows "time, value" of a motion file: numbers separated by commas, tabs, semicolons or spaces;
+// blank lines and lines starting with '#' are skipped, and so is a first line that is not numeric (a
+// header). Returns false, with the problem in ctx under `path`, for a file that cannot serve.
+bool read_motion_rows(const std::string& file, const std::string& path, Context& ctx, MotionSpec& m) {
+  std::ifstream in(file);
+  if (!in) {
+    ctx.problem(path, "cannot open " + quote(file));
+    return false;
+  }
+  std::string line;
+  int line_number = 0;
+  bool first = true;
+  while (std::getline(in, line)) {
+    ++line_number;
+    std::string spaced = line;
+    for (char& ch : spaced)
+      if (ch == ',' || ch == '\t' || ch == ';' || ch == '\r') ch = ' ';
+    std::istringstream fields(spaced);
+    std::vector<double> numbers;
+    std::string item;
+    bool numeric = true;
+    while (fields >> item) {
+      double x = 0;
+      const auto [ptr, error] = std::from_chars(item.data(), item.data() + item.size(), x);
+      if (error != std::errc() || ptr != item.data() + item.size() || !std::isfinite(x)) numeric = false;
+      numbers.push_back(x);
+    }
+    if (numbers.empty() || trim(line).front() == '#') continue;
+    const bool header = first && !numeric;
+    first = false;
+    if (header) continue;
+    if (!numeric || numbers.size() != 2) {
+      ctx.problem(path, quote(file) + " line " + std::to_string(line_number) +
+                            ": expected two numbers, time and value (got " + quote(trim(line)) + ")");
+      return false;
+    }
+    if (!m.times.empty() && !(numbers[0] > m.times.back())) {
+      ctx.problem(path, quote(file) + " line " + std::to_string(line_number) + ": the rows must be sorted by time, " +
+                            "strictly increasing (t = " + show(numbers[0]) + " follows t = " + show(m.times.back()) +
+                            ")");
+      return false;
+    }
+    m.times.push_back(numbers[0]);
+    m.values.push_back(numbers[1]);
+  }
+  if (m.times.size() >= 2) return true;
+  ctx.problem(path, quote(file) + ": needs at least two rows (got " + std::to_string(m.times.size()) + ")");
+  return false;
+}
+
+// Motion files are read here, where the case file's folder and end_time are known: a file must reach
+// end_time (before its first row the first value holds). The resolved configuration names the file by
+// its absolute path.
+void read_motion_files(CaseSpec& c, Context& ctx) {
+  const auto folder = std::filesystem::path(c.source_path).parent_path();
+  for (std::size_t i = 0; i < c.bodies.size(); ++i) {
+    BodySpec& b = c.bodies[i];
+    const std::string path = index_path("bodies", i) + ".motion";
+    if (b.kind == ParticleKind::structure && b.motion.type != "none" && b.clamps.empty())
+      ctx.problem(path, "moves the clamped particles of a structure, and this body has no clamps");
+    MotionSpec& m = b.motion;
+    if ((m.type != "translation" && m.type != "rotation") || m.profile != "csv" || m.file.empty()) continue;
+    std::filesystem::path file(m.file);
+    if (file.is_relative()) file = folder / file;
+    m.file = std::filesystem::absolute(file).lexically_normal().string();
+    if (!read_motion_rows(m.file, path + ".file", ctx, m)) continue;
+    if (m.times.back() < c.end_time)
+      ctx.problem(path + ".file", quote(m.file) + " ends at t = " + show(m.times.back()) +
+                                      " s, before end_time = " + show(c.end_time) + " s");
+  }
+}
+
 void check_lists(CaseSpec& c, Context& ctx) {
+  read_motion_files(c, ctx);
   check_unique_names(c.materials, "materials", ctx);
   check_unique_names(c.bodies, "bodies", ctx);
   check_unique_names(c.probes, "probes", ctx);
@@ -878,6 +979,29 @@ std::string toml_velocity(const InitialVelocitySpec& v, int dimension) {
   return inline_table({{"type", quote(v.type)}});
 }
 
+std::string toml_motion(const MotionSpec& m, int dimension) {
+  std::vector<std::pair<std::string, std::string>> entries{{"type", quote(m.type)}};
+  if (m.type == "constant_velocity") entries.emplace_back("velocity", toml_vector(m.velocity, dimension));
+  if (m.type == "translation") entries.emplace_back("direction", toml_vector(m.direction, dimension));
+  if (m.type == "rotation") entries.emplace_back("pivot", toml_vector(m.pivot, dimension));
+  if (m.type == "translation" || m.type == "rotation") {
+    entries.emplace_back("profile", quote(m.profile));
+    if (m.profile == "polynomial") {
+      std::vector<std::string> items;
+      for (double c : m.coefficients) items.push_back(toml_float(c));
+      entries.emplace_back("coefficients", "[" + join(items, ", ") + "]");
+      entries.emplace_back("until", toml_float(m.until));
+    } else if (m.profile == "sine") {
+      entries.emplace_back("amplitude", toml_float(m.amplitude));
+      entries.emplace_back("period", toml_float(m.period));
+      entries.emplace_back("phase", toml_float(m.phase));
+    } else {
+      entries.emplace_back("file", quote(m.file));
+    }
+  }
+  return inline_table(entries);
+}
+
 void write_material(std::ostream& out, const MaterialSpec& m, int dimension) {
   out << "\n[[materials]]\n"
       << "name = " << quote(m.name) << "\n"
@@ -902,12 +1026,8 @@ void write_body(std::ostream& out, const BodySpec& b, int dimension) {
   out << "shape = " << toml_shape(b.shape, dimension) << "\n";
   if (b.kind == ParticleKind::structure) out << "clamps = [" << join(clamps, ", ") << "]\n";
   out << "lattice_origin = " << toml_vector(b.lattice_origin, dimension) << "\n";
-  if (b.kind == ParticleKind::wall) {
-    out << "motion = " << quote(b.motion) << "\n";
-    if (b.motion == "constant_velocity") out << "velocity = " << toml_vector(b.velocity, dimension) << "\n";
-  } else {
-    out << "initial_velocity = " << toml_velocity(b.initial_velocity, dimension) << "\n";
-  }
+  if (b.kind != ParticleKind::wall) out << "initial_velocity = " << toml_velocity(b.initial_velocity, dimension) << "\n";
+  if (b.kind != ParticleKind::fluid) out << "motion = " << toml_motion(b.motion, dimension) << "\n";
 }
 
 void write_load(std::ostream& out, const LoadSpec& l, int dimension) {

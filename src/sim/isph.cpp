@@ -54,6 +54,8 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
       wall_normal_(std::move(s.wall_normal)),
       id_(std::move(s.id)),
       structure_index_(std::move(s.structure_index)),
+      motion_(std::move(s.motion)),
+      reference_x_(x_),
       density_(s.density),
       viscosity_(s.viscosity),
       dx_(s.dx),
@@ -66,9 +68,11 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
       shifting_(shifting_type_from_name(s.settings.shifting.type)),
       extrapolate_surface_(s.settings.surface_pressure == "extrapolated"),
       fsi_shifting_(s.fsi_shifting),
-      pairwise_force_(s.interaction_force == "pairwise") {
+      pairwise_force_(s.interaction_force == "pairwise"),
+      motions_(std::move(s.motions)) {
   const std::size_t n = x_.size();
   if (structure_index_.empty()) structure_index_.assign(n, -1);
+  if (motion_.empty()) motion_.assign(n, -1);
   has_structure_ = std::count(kind_.begin(), kind_.end(), FluidKind::structure) > 0;
   wall_acceleration_.assign(n, Vec<D>::zero());
   reference_normal_ = wall_normal_;
@@ -126,6 +130,8 @@ void IsphSolver<D>::sort_by_cell() {
   permute(reference_normal_, order);
   permute(id_, order);
   permute(structure_index_, order);
+  permute(motion_, order);
+  permute(reference_x_, order);
 }
 
 template <int D>
@@ -186,6 +192,8 @@ template <int D>
 void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
   const Index n = size();
   const bool sps = settings_.turbulence == "sps";
+
+  if (!motions_.empty()) timer.time("wall_motion", [&] { prescribe_walls(dt); });
 
   // Eq. 11: r* = r^n + dt u^n (walls move with their prescribed velocity). The neighbours are found
   // at r*, where the particles may be re-sorted; r^n is then recovered as r* - dt u^n.
@@ -300,7 +308,40 @@ void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
       }
       parallel_for(exec_, n, ApplyShift<D>{shift_.data(), period_, x_.data()});
     });
+  if (!motions_.empty()) timer.time("wall_motion", [&] { wall_work_ += dt * moving_wall_power(); });
+  time_ += dt;
   ++steps_;
+}
+
+// Moving walls over [t, t + dt]: from x(t) they move by their chord of the step, with the velocity
+// (x(t + dt) - x(t))/dt (what the fluid sees of a structure too, sim/coupling.hpp), the acceleration
+// (v(t + dt) - v(t))/dt in their PPE rows, and their normals turned to t + dt.
+template <int D>
+void IsphSolver<D>::prescribe_walls(Real dt) {
+  for (Index a = 0; a < size(); ++a) {
+    if (motion_[a] < 0) continue;
+    const RigidMotion<D>& m = motions_[motion_[a]];
+    const Vec<D>& X = reference_x_[a];
+    const Vec<D> start = m.position(X, time_);
+    x_[a] = period_.wrap(start);
+    u_[a] = wall_velocity_[a] = (1.0 / dt) * (m.position(X, time_ + dt) - start);
+    wall_acceleration_[a] = (1.0 / dt) * (m.velocity(X, time_ + dt) - m.velocity(X, time_));
+    wall_normal_[a] = m.rotation(time_ + dt) * reference_normal_[a];
+  }
+}
+
+// Power of the moving walls' pressure force on the fluid, sum_w -V_w f_w · u_w, with f_w the pairwise
+// pressure force per unit volume on wall particle w (structure/interaction.hpp).
+template <int D>
+Real IsphSolver<D>::moving_wall_power() {
+  const Index n = size();
+  boundary_force_.resize(n);
+  parallel_for(exec_, n, BoundaryPressureForce<D>{view(), p_.data(), L_structure_.data(), grad_p_.data(),
+                                                  boundary_force_.data(), true, FluidKind::wall});
+  Real power = 0;
+  for (Index a = 0; a < n; ++a)
+    if (motion_[a] >= 0) power -= volume_[a] * dot(boundary_force_[a], wall_velocity_[a]);
+  return power;
 }
 
 template <int D>
@@ -330,15 +371,15 @@ void IsphSolver<D>::set_structure_acceleration(const std::vector<Vec<D>>& a) {
 template <int D>
 Vec<D> IsphSolver<D>::structure_pressure_force(std::vector<Vec<D>>& force_density) {
   const Index n = size();
-  structure_force_.resize(n);
-  parallel_for(exec_, n, StructurePressureForce<D>{view(), p_.data(), L_structure_.data(), grad_p_.data(),
-                                                   structure_force_.data(), pairwise_force_});
+  boundary_force_.resize(n);
+  parallel_for(exec_, n, BoundaryPressureForce<D>{view(), p_.data(), L_structure_.data(), grad_p_.data(),
+                                                  boundary_force_.data(), pairwise_force_, FluidKind::structure});
   Vec<D> total = Vec<D>::zero();
   for (Index k = 0; k < n; ++k) {
     const Index s = structure_index_[k];
     if (s < 0) continue;
-    force_density[s] = structure_force_[k];
-    total += volume_[k] * structure_force_[k];
+    force_density[s] = boundary_force_[k];
+    total += volume_[k] * boundary_force_[k];
   }
   return total;
 }

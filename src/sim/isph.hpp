@@ -14,6 +14,7 @@
 #include "poisson/linear_solver.hpp"
 #include "shifting/particle_shifting.hpp"
 #include "sim/phase_timer.hpp"
+#include "sim/prescribed_motion.hpp"
 
 namespace isph {
 
@@ -28,6 +29,8 @@ struct FluidSetup {
   std::vector<Real> wall_depth;       // walls, structures: distance below the surface
   std::vector<Index> structure_index; // structure particles: index in the TLSPH solver; -1 for others
   std::vector<Index> id;              // stable id (output order)
+  std::vector<Index> motion;          // walls: index in `motions`; -1 for fixed walls and the others
+  std::vector<RigidMotion<D>> motions;  // prescribed motions of wall bodies
   Real density = 0;
   Real viscosity = 0;                 // kinematic [m^2/s]
   Real dx = 0;
@@ -86,6 +89,10 @@ class IsphSolver {
   const std::vector<Real>& position_divergence() const { return div_r_; }
   const std::vector<Vec<D>>& shift() const { return shift_; }
   const std::string& ppe_solver_name() const { return solver_name_; }
+  Real time() const { return time_; }
+  // Work done on the fluid by the moving walls' pressure, integrated over the steps (their viscous
+  // traction is not counted).
+  Real wall_work() const { return wall_work_; }
 
   Real kinetic_energy() const;
   Real potential_energy() const;  // -sum m g · x
@@ -117,19 +124,22 @@ class IsphSolver {
   void find_neighbours();
   void sort_by_cell();
   void compress_matrix();
+  void prescribe_walls(Real dt);
+  Real moving_wall_power();
 
   // particle state (permuted together by sort_by_cell)
   std::vector<Vec<D>> x_, u_;
   std::vector<Real> p_, volume_, wall_depth_;
   std::vector<FluidKind> kind_;
   std::vector<Vec<D>> wall_velocity_, wall_acceleration_, wall_normal_, reference_normal_;
-  std::vector<Index> id_, structure_index_;
+  std::vector<Index> id_, structure_index_, motion_;
+  std::vector<Vec<D>> reference_x_;  // initial positions (moving walls follow their motion from them)
   // work arrays
   std::vector<Vec<D>> x_old_, u_star_, u_new_, grad_p_, surface_normal_, shift_;
   std::vector<Mat<D>> L_, Bhat_, grad_u_;
   std::vector<Real> div_r_, alpha_, div_u_star_, eddy_viscosity_, pressure_volume_;
   std::vector<SurfaceClass> detected_, cls_;
-  std::vector<Vec<D>> wall_moment_, structure_force_;
+  std::vector<Vec<D>> wall_moment_, boundary_force_;
   std::vector<Mat<D>> L_structure_;
   std::vector<unsigned char> inside_;
   std::vector<Real> structure_distance_;
@@ -140,6 +150,8 @@ class IsphSolver {
 
   Index fluid_count_ = 0, wall_count_ = 0;
   long long steps_ = 0;
+  Real time_ = 0, wall_work_ = 0;
+  std::vector<RigidMotion<D>> motions_;
   int solves_since_assembly_ = 0;  // PPE solves with the assembled matrix (the later ones reuse its set-up)
   Real density_, viscosity_, dx_, reference_velocity_;
   SmoothingKernel<D> kernel_;

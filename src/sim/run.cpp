@@ -392,7 +392,8 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
         sk = s.kinetic_energy(), sp = s.potential_energy(), ss = s.strain_energy();
       }
       frame.probes.add_row(row);
-      frame.energy.add_row({t, ek, ep, sk, sp, ss, 0, ek + ep + sk + sp + ss});
+      const Real ww = solver.wall_work();  // energy the moving walls gave the fluid
+      frame.energy.add_row({t, ek, ep, sk, sp, ss, ww, ek + ep + sk + sp + ss - ww});
     });
   };
   auto snapshot = [&](Real t) {

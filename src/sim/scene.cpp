@@ -15,13 +15,6 @@ namespace {
 std::array<double, 3> to_array(const Vec<2>& v) { return {v[0], v[1], 0.0}; }
 std::array<double, 3> to_array(const Vec<3>& v) { return {v[0], v[1], v[2]}; }
 
-template <int D>
-Vec<D> to_vec(const std::array<double, 3>& a) {
-  Vec<D> v;
-  for (int d = 0; d < D; ++d) v[d] = a[d];
-  return v;
-}
-
 // Bounding box of a shape in the first D components.
 template <int D>
 void shape_bounds(const Shape& s, Vec<D>& lo, Vec<D>& hi) {
@@ -94,14 +87,18 @@ void add_fluid_body(const CaseSpec& spec, std::size_t bi, const std::vector<Vec<
   const BodySpec& body = spec.bodies[bi];
   const bool is_fluid = body.kind == ParticleKind::fluid;
   const Real volume = D == 2 ? spec.dx * spec.dx : spec.dx * spec.dx * spec.dx;
-  const Vec<D> wall_velocity = body.motion == "constant_velocity" ? to_vec<D>(body.velocity) : Vec<D>::zero();
+  const bool moves = !is_fluid && body.motion.type != "none";
+  if (moves) f.motions.emplace_back(body.motion);
+  f.motion.resize(f.x.size(), -1);
   for (const auto& p : points) {
+    const Vec<D> wall_velocity = moves ? f.motions.back().velocity(p, 0) : Vec<D>::zero();
     f.id.push_back(static_cast<Index>(f.x.size()));
     f.x.push_back(p);
     f.u.push_back(is_fluid ? initial_velocity<D>(body.initial_velocity, p) : wall_velocity);
     f.volume.push_back(volume);
     f.kind.push_back(is_fluid ? FluidKind::fluid : FluidKind::wall);
-    f.wall_velocity.push_back(is_fluid ? Vec<D>::zero() : wall_velocity);
+    f.wall_velocity.push_back(wall_velocity);
+    f.motion.push_back(moves ? static_cast<Index>(f.motions.size()) - 1 : -1);
     if (!f.structure_index.empty()) f.structure_index.push_back(-1);
   }
 }
@@ -117,6 +114,7 @@ void add_structure_particle(const Vec<D>& x, const Vec<D>& v, Index structure_in
   f.kind.push_back(FluidKind::structure);
   f.wall_velocity.push_back(v);
   f.structure_index.push_back(structure_index);
+  f.motion.resize(f.x.size(), -1);
 }
 
 template <int D>
@@ -328,14 +326,26 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, std::
   wall_surface_geometry(f, dx, f.kernel.support(), period);
   check_wall_thickness(f, dx, f.kernel.support(), period, file, problems);
 
+  // Moving walls: where they go and how fast, sampled over the run (for Eq. 49 and the escape box).
+  Real wall_speed = 0;
+  for (Index a = 0; a < n; ++a) {
+    if (f.motion[a] < 0) continue;
+    const RigidMotion<D>& m = f.motions[f.motion[a]];
+    constexpr int samples = 200;
+    for (int k = 0; k <= samples; ++k) {
+      const Real t = spec.end_time * k / samples;
+      const Vec<D> x = m.position(f.x[a], t);
+      for (int d = 0; d < D; ++d) lo[d] = std::min(lo[d], x[d]), hi[d] = std::max(hi[d], x[d]);
+      wall_speed = std::max(wall_speed, std::sqrt(norm2(m.velocity(f.x[a], t))));
+    }
+  }
+
   // Reference velocity of Eq. 49: free fall over the fluid's height, or the fastest wall.
-  Real fluid_lo = std::numeric_limits<Real>::max(), fluid_hi = -fluid_lo, wall_speed = 0;
+  Real fluid_lo = std::numeric_limits<Real>::max(), fluid_hi = -fluid_lo;
   const Vec<D> g = to_vec<D>(spec.gravity);
   const Real g_norm = std::sqrt(norm2(g));
   for (Index a = 0; a < n; ++a) {
-    if (f.kind[a] == FluidKind::wall) {
-      wall_speed = std::max(wall_speed, std::sqrt(norm2(f.wall_velocity[a])));
-    } else if (f.kind[a] == FluidKind::fluid && g_norm > 0) {
+    if (f.kind[a] == FluidKind::fluid && g_norm > 0) {
       const Real height = -dot(f.x[a], g) / g_norm;
       fluid_lo = std::min(fluid_lo, height), fluid_hi = std::max(fluid_hi, height);
     }
@@ -346,7 +356,8 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, std::
     problems.push_back(file + ": fluid.reference_velocity: no gravity and no moving wall; give the velocity scale of "
                               "the flow (Eq. 49 needs it)");
 
-  // Escape box: the box of all particles grown by 2h, and upwards (against gravity) by its own size.
+  // Escape box: the box of all particles (and of the moving walls' paths) grown by 2h, and upwards
+  // (against gravity) by its own size.
   for (Index a = 0; a < n; ++a)
     for (int d = 0; d < D; ++d) lo[d] = std::min(lo[d], f.x[a][d]), hi[d] = std::max(hi[d], f.x[a][d]);
   for (int d = 0; d < D; ++d) {
@@ -412,6 +423,8 @@ Scene<D> build_scene(const CaseSpec& spec) {
     shape_bounds<D>(body.shape, lo, hi);
     for (int d = 0; d < D; ++d) scene.body_extent = std::max(scene.body_extent, hi[d] - lo[d]);
     std::vector<int> clamp_count(body.clamps.size(), 0);
+    if (body.motion.type != "none") s.motions.emplace_back(body.motion);
+    const Index clamp_motion = body.motion.type != "none" ? static_cast<Index>(s.motions.size()) - 1 : -1;
     for (const auto& p : points) {
       unsigned char fixed = 0;
       for (std::size_t c = 0; c < body.clamps.size(); ++c)
@@ -420,11 +433,13 @@ Scene<D> build_scene(const CaseSpec& spec) {
           ++clamp_count[c];
         }
       s.X.push_back(p);
-      s.v.push_back(fixed ? Vec<D>::zero() : initial_velocity<D>(body.initial_velocity, p));
+      const Vec<D> clamp_velocity = clamp_motion >= 0 ? s.motions[clamp_motion].velocity(p, 0) : Vec<D>::zero();
+      s.v.push_back(fixed ? clamp_velocity : initial_velocity<D>(body.initial_velocity, p));
       s.volume.push_back(D == 2 ? dx * dx : dx * dx * dx);
       s.material.push_back(material);
       s.body.push_back(static_cast<int>(bi));
       s.fixed.push_back(fixed);
+      s.motion.push_back(fixed ? clamp_motion : -1);
       if (spec.stages.fluid) add_structure_particle<D>(p, s.v.back(), static_cast<Index>(s.X.size()) - 1, dx, fluid);
     }
     for (std::size_t c = 0; c < body.clamps.size(); ++c)
@@ -495,6 +510,7 @@ Scene<D> build_scene(const CaseSpec& spec) {
   permute(s.material);
   permute(s.body);
   permute(s.fixed);
+  permute(s.motion);
   for (auto& l : s.loads) permute(l.acc);
   scene.structure_id = order;
   scene.structure_body = s.body;

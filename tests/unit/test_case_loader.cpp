@@ -443,7 +443,7 @@ TEST_F(CaseLoaderTest, FluidCaseLoadsWithDefaults) {
   for (std::size_t i = 1; i < 4; ++i) {
     EXPECT_EQ(c.bodies[i].kind, ParticleKind::wall);
     EXPECT_TRUE(c.bodies[i].material.empty());
-    EXPECT_EQ(c.bodies[i].motion, "none");
+    EXPECT_EQ(c.bodies[i].motion.type, "none");
   }
 
   ASSERT_EQ(c.probes.size(), 2u);
@@ -518,8 +518,7 @@ initial_velocity = { type = "uniform", value = [0.5, 0] }
 [[bodies]]
 name = "plate"
 kind = "wall"
-motion = "constant_velocity"
-velocity = [1, 0]
+motion = { type = "constant_velocity", velocity = [1, 0] }
 shape = { type = "rectangle", min = [0, 0.1], max = [0.1, 0.13] }
 [[probes]]
 name = "u_mid"
@@ -551,14 +550,14 @@ point = [0.05, 0.05]
   EXPECT_DOUBLE_EQ(c.periodic.lo[0], 0.0);
   EXPECT_DOUBLE_EQ(c.periodic.hi[0], 0.1);
   EXPECT_EQ(c.bodies[0].initial_velocity.value, (std::array<double, 3>{0.5, 0, 0}));
-  EXPECT_EQ(c.bodies[1].motion, "constant_velocity");
-  EXPECT_EQ(c.bodies[1].velocity, (std::array<double, 3>{1, 0, 0}));
+  EXPECT_EQ(c.bodies[1].motion.type, "constant_velocity");
+  EXPECT_EQ(c.bodies[1].motion.velocity, (std::array<double, 3>{1, 0, 0}));
   EXPECT_EQ(c.probes[0].type, "velocity");
 
   // Round trip of a case that sets everything.
   const CaseSpec again = load_case(write("couette.resolved.toml", c.resolved_toml));
   EXPECT_EQ(again.resolved_toml, c.resolved_toml);
-  EXPECT_EQ(again.bodies[1].velocity, c.bodies[1].velocity);
+  EXPECT_EQ(again.bodies[1].motion.velocity, c.bodies[1].motion.velocity);
   EXPECT_EQ(again.periodic.axis, c.periodic.axis);
   EXPECT_EQ(again.periodic.hi, c.periodic.hi);
   EXPECT_EQ(again.fluid.ppe.preconditioner, "boomeramg");
@@ -616,18 +615,19 @@ poisson_ratio = 0.3
 name = "blob"
 kind = "fluid"
 material = "steel"
-motion = "constant_velocity"
+motion = { type = "constant_velocity", velocity = [1, 0] }
 clamps = []
 shape = { type = "circle", center = [0.5, 0.5], radius = 0.05 }
 initial_velocity = { type = "cantilever_mode", tip_velocity = 1, length = 1 }
 [[bodies]]
 name = "gate"
 material = "water"
+motion = { type = "translation", profile = "sine", amplitude = 0.01, period = 1 }
 shape = { type = "rectangle", min = [0.2, 0], max = [0.21, 0.4] }
 [[bodies]]
 name = "lid"
 kind = "wall"
-motion = "constant_velocity"
+motion = { type = "constant_velocity" }
 initial_velocity = { type = "uniform", value = [1, 0] }
 shape = { type = "rectangle", min = [0, 0.6], max = [1, 0.63] }
 [[bodies]]
@@ -639,16 +639,91 @@ shape = { type = "rectangle", min = [0.5, 0], max = [0.6, 0.03] }
   const auto p = problems(path);
   EXPECT_TRUE(reports(p, path + ": bodies[4].material: material \"steel\" has model = "
                                 "\"saint_venant_kirchhoff\", but a fluid body needs model = \"newtonian\""));
-  EXPECT_TRUE(reports(p, path + ": bodies[4].motion: only for kind = \"wall\" (kind = \"fluid\")"));
+  EXPECT_TRUE(reports(p, path + ": bodies[4].motion: only for kind = \"wall\" or \"structure\" (kind = \"fluid\"; "
+                                "see initial_velocity)"));
   EXPECT_TRUE(reports(p, path + ": bodies[4].clamps: only for kind = \"structure\" (kind = \"fluid\")"));
   EXPECT_TRUE(reports(p, path + ": bodies[4].initial_velocity: type \"cantilever_mode\" is only for kind = "
                                 "\"structure\"; a fluid takes \"none\" or \"uniform\""));
   EXPECT_TRUE(reports(p, path + ": bodies[5].material: material \"water\" has model = \"newtonian\", but a "
                                 "structure body needs model = \"saint_venant_kirchhoff\""));
   EXPECT_TRUE(reports(p, path + ": bodies[6].initial_velocity: not for kind = \"wall\" (use motion)"));
-  EXPECT_TRUE(reports(p, path + ": bodies[6].velocity: missing required key"));
-  EXPECT_TRUE(reports(p, path + ": bodies[7].velocity: only with motion = \"constant_velocity\""));
-  EXPECT_EQ(p.size(), 8u);
+  EXPECT_TRUE(reports(p, path + ": bodies[5].motion: moves the clamped particles of a structure, and this body "
+                                "has no clamps"));
+  EXPECT_TRUE(reports(p, path + ": bodies[6].motion.velocity: missing required key"));
+  EXPECT_TRUE(reports(p, path + ": bodies[7].velocity: unknown key"));
+  EXPECT_EQ(p.size(), 9u);
+}
+
+// A moving gate: a CSV motion read relative to the case file, written back by absolute path.
+TEST_F(CaseLoaderTest, MotionFromCsvFile) {
+  write("lift.csv", "time [s]\tlift [m]\n# the gate lift\n0\t0\n0.5\t0.1\n1.0\t0.3\n1.5\t0.3\n");
+  const auto path = write("gate.toml", kDamBreak + R"(
+[[bodies]]
+name = "gate"
+kind = "wall"
+shape = { type = "rectangle", min = [0.2, 0], max = [0.23, 0.45] }
+motion = { type = "translation", direction = [0, 2], profile = "csv", file = "lift.csv" }
+[[bodies]]
+name = "paddle"
+kind = "wall"
+shape = { type = "rectangle", min = [0.9, 0], max = [0.93, 0.45] }
+motion = { type = "rotation", pivot = [0.9, 0], profile = "sine", amplitude = 4, period = 1.2 }
+)");
+  const CaseSpec c = load_case(path);
+  const MotionSpec& m = c.bodies[4].motion;
+  EXPECT_EQ(m.type, "translation");
+  EXPECT_EQ(m.direction, (std::array<double, 3>{0, 1, 0}));
+  EXPECT_EQ(m.times, (std::vector<double>{0, 0.5, 1.0, 1.5}));
+  EXPECT_EQ(m.values, (std::vector<double>{0, 0.1, 0.3, 0.3}));
+  EXPECT_EQ(m.file, (dir_ / "lift.csv").string());
+  EXPECT_EQ(c.bodies[5].motion.profile, "sine");
+  EXPECT_DOUBLE_EQ(c.bodies[5].motion.period, 1.2);
+  // The resolved case names the file absolutely, so it runs from any folder.
+  fs::create_directories(dir_ / "elsewhere");
+  const CaseSpec again = load_case(write("elsewhere/gate.resolved.toml", c.resolved_toml));
+  EXPECT_EQ(again.resolved_toml, c.resolved_toml);
+  EXPECT_EQ(again.bodies[4].motion.values, m.values);
+}
+
+TEST_F(CaseLoaderTest, MotionErrors) {
+  write("unsorted.csv", "0, 0\n0.5, 1\n0.4, 2\n2, 3\n");
+  write("short.csv", "0, 0\n0.5, 1\n");
+  write("late.csv", "0.1, 0\n2, 1\n");  // the first value holds before t = 0.1
+  write("words.csv", "t, s\n0, 0\n0.5, one\n2, 1\n");
+  std::string bodies;
+  for (const char* file : {"unsorted.csv", "short.csv", "late.csv", "words.csv", "missing.csv"})
+    bodies += std::string("[[bodies]]\nname = \"") + file + "\"\nkind = \"wall\"\n" +
+              "shape = { type = \"rectangle\", min = [2, 0], max = [2.1, 0.1] }\n" +
+              "motion = { type = \"translation\", profile = \"csv\", file = \"" + file + "\" }\n";
+  const auto path = write("motions.toml", kDamBreak + bodies + R"(
+[[bodies]]
+name = "spinner"
+kind = "wall"
+shape = { type = "rectangle", min = [3, 0], max = [3.1, 0.1] }
+motion = { type = "rotation", profile = "polynomial", coefficients = [] }
+[[bodies]]
+name = "shaker"
+kind = "wall"
+shape = { type = "rectangle", min = [4, 0], max = [4.1, 0.1] }
+motion = { type = "translation", profile = "sine", amplitude = 1, period = 0 }
+)");
+  const auto p = problems(path);
+  const std::string dir = dir_.string() + "/";
+  EXPECT_TRUE(reports(p, path + ": bodies[4].motion.file: \"" + dir + "unsorted.csv\" line 3: the rows must be sorted "
+                                "by time, strictly increasing (t = 0.4 follows t = 0.5)"));
+  EXPECT_TRUE(reports(p, path + ": bodies[5].motion.file: \"" + dir + "short.csv\" ends at t = 0.5 s, before "
+                                "end_time = 1 s"));
+  EXPECT_TRUE(reports(p, path + ": bodies[7].motion.file: \"" + dir + "words.csv\" line 3: expected two numbers, "
+                                "time and value (got \"0.5, one\")"));
+  EXPECT_TRUE(reports(p, path + ": bodies[8].motion.file: cannot open \"" + dir + "missing.csv\""));
+  EXPECT_TRUE(reports(p, path + ": bodies[9].motion.pivot: missing required key"));
+  EXPECT_TRUE(reports(p, path + ": bodies[9].motion.coefficients: must not be empty"));
+  EXPECT_TRUE(reports(p, path + ": bodies[10].motion.period: must be > 0 (got 0)"));
+  EXPECT_EQ(p.size(), 7u);
+
+  // A file that was long enough becomes too short when end_time grows.
+  EXPECT_TRUE(reports(problems(path, {"end_time=3"}),
+                      path + ": bodies[6].motion.file: \"" + dir + "late.csv\" ends at t = 2 s, before end_time = 3 s"));
 }
 
 TEST_F(CaseLoaderTest, FluidMissingMaterial) {
@@ -838,7 +913,7 @@ TEST_F(CaseLoaderTest, FluidResolvedTomlReloadsToTheSameCase) {
   EXPECT_EQ(second.fluid.ppe.method, "gmres");
   EXPECT_EQ(second.periodic.axis, first.periodic.axis);
   EXPECT_EQ(second.periodic.hi, first.periodic.hi);
-  EXPECT_EQ(second.bodies[1].motion, "none");
+  EXPECT_EQ(second.bodies[1].motion.type, "none");
   EXPECT_EQ(second.probes[1].type, "front");
   // Only the keys of each kind and model are written.
   EXPECT_EQ(first.resolved_toml.find("youngs_modulus"), std::string::npos);
