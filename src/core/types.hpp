@@ -177,6 +177,12 @@ ISPH_HD inline Mat<3> inverse(const Mat<3>& a) {
   return r;
 }
 
+// Whether a symmetric matrix is positive definite (Sylvester: every leading principal minor > 0).
+ISPH_HD inline bool positive_definite(const Mat<2>& a) { return a(0, 0) > 0 && determinant(a) > 0; }
+ISPH_HD inline bool positive_definite(const Mat<3>& a) {
+  return a(0, 0) > 0 && a(0, 0) * a(1, 1) - a(0, 1) * a(1, 0) > 0 && determinant(a) > 0;
+}
+
 // The first D components of a case-file vector (host code).
 template <int D>
 inline Vec<D> to_vec(const std::array<double, 3>& a) {
