@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""Tables and figures of the coupled ISPH-TLSPH validation (docs/VALIDATION.md): hydrostatic plate
-and elastic gate.
+"""Tables and figures of the coupled ISPH-TLSPH validation (docs/VALIDATION.md): hydrostatic plate,
+elastic gate and its stability variants, the Walhorn obstacle, the Liao plate and the sloshing baffle.
 
 Reads the run folders written by `isph run` under --runs and the gate references under --reference;
 writes PNG figures into --figures and prints markdown tables to stdout. Unfinished runs are skipped
@@ -126,42 +126,22 @@ def rmse_against(t, u, ref):
 
 def gate(args):
     print("\n### Elastic gate\n")
-    run = finished_run(args.runs, "gate_T4")
-    if run is None and args.partial and os.path.exists(os.path.join(args.runs, "gate_T4", "probes.csv")):
-        run = os.path.join(args.runs, "gate_T4")  # stopped or still running: what it has written so far
+    run = run_or_partial(args, "gate_T4")
     if run is None:
         print("_no finished run_")
         return
-    d = read_probes(run)
-    s = summary(run) if os.path.exists(os.path.join(run, "summary.json")) else None
-    t, ux, uy = d["time"], d["tip.ux"], d["tip.uy"]
     folder = os.path.join(args.reference, "antoci_2007_elastic_gate")
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
-    rows = []
-    for comp, u, ax in (("x", ux, axes[0]), ("y", uy, axes[1])):
-        ax.plot(t, u * 1e3, "k-", lw=1.5, label="ISPH-TLSPH (this code), T/dx = 4")
-        for key, label, marker in GATE_REFS:
-            path = os.path.join(folder, f"ng_2020_elastic_dam_break_{comp}_displacement_{key}.csv")
-            if not os.path.exists(path):
-                continue
-            ref = read_reference(path)
-            ax.plot(ref[:, 0], ref[:, 1] * 1e3, marker, ms=3, mfc="none", label=label)
-            rows.append([comp, label, fmt(rmse_against(t, u, ref) * 1e3, 3), fmt(ref[:, 1].max() * 1e3, 3),
-                         fmt(ref[np.argmax(ref[:, 1]), 0], 3)])
-        ax.set_xlabel("t [s]")
-        ax.set_ylabel(f"tip u_{comp} [mm]")
-        ax.grid(alpha=0.3)
-    axes[0].legend(fontsize=7)
-    fig.tight_layout()
-    save(fig, args, "coupled_gate_tip.png")
+    refs = {comp: [(path, label, marker) for key, label, marker in GATE_REFS
+                   if os.path.exists(path := os.path.join(folder, f"ng_2020_elastic_dam_break_{comp}_displacement_{key}.csv"))]
+            for comp in ("x", "y")}
+    d, rows = tip_history(args, run, refs, "ISPH-TLSPH (this code), T/dx = 4", "coupled_gate_tip.png", ("x", "y"))
+    t, ux, uy = d["time"], d["tip.ux"], d["tip.uy"]
     print(f"\nPeak tip u_x: {fmt(ux.max() * 1e3, 3)} mm at t = {fmt(t[np.argmax(ux)], 3)} s; peak u_y: "
           f"{fmt(uy.max() * 1e3, 3)} mm at t = {fmt(t[np.argmax(uy)], 3)} s.\n")
     table(["component", "reference", "RMSE [mm]", "reference peak [mm]", "at t [s]"], rows)
-    if s is None:
-        print(f"\n- Unfinished run (no summary.json): its output reaches t = {fmt(t[-1], 3)} s.\n")
-    else:
-        print("\n- " + run_line(s) + "\n")
-        phase_table([("gate_T4", s)])
+    describe_end(run)
+    if os.path.exists(os.path.join(run, "summary.json")):
+        phase_table([("gate_T4", summary(run))])
     gate_energy(args, run)
     gate_snapshots(args, run)
 
@@ -183,27 +163,163 @@ def gate_energy(args, run):
           f"{fmt(released, 3)} J/m); largest excursion {fmt(np.max(np.abs(e['total'] - base)), 3)} J/m.")
 
 
-def gate_snapshots(args, run):
+def snapshots(args, run, times, xlim, ylim, p_max, name, walls=False, size=0.5):
+    """Six snapshots nearest to `times`: fluid coloured by pressure, structure red (walls grey)."""
     snaps = snapshot_list(run)
     if not snaps:
         return
     fig, axes = plt.subplots(2, 3, figsize=(12, 6), sharex=True, sharey=True)
-    for ax, want in zip(axes.ravel(), GATE_SNAPSHOT_TIMES):
+    sc = None
+    for ax, want in zip(axes.ravel(), times):
         t, path = snaps[closest(snaps, want)]
-        if abs(t - want) > 0.005:  # the run did not reach it
+        if abs(t - want) > 0.01:  # the run did not reach it
             ax.set_axis_off()
             continue
         sn = read_snapshot(path)
         x, kind, p = sn["position"], sn["kind"].ravel(), sn["pressure"].ravel()
         fluid, structure = kind == 0, kind == 2
-        sc = ax.scatter(x[fluid, 0], x[fluid, 1], c=p[fluid], s=0.5, cmap="viridis", vmin=0, vmax=1400)
-        ax.scatter(x[structure, 0], x[structure, 1], c="r", s=0.5)
+        if walls:
+            ax.scatter(x[kind == 1, 0], x[kind == 1, 1], c="0.6", s=size)
+        sc = ax.scatter(x[fluid, 0], x[fluid, 1], c=p[fluid], s=size, cmap="viridis", vmin=0, vmax=p_max)
+        ax.scatter(x[structure, 0], x[structure, 1], c="r", s=size)
         ax.set_title(f"t = {t:.2f} s", fontsize=9)
-        ax.set_xlim(-0.01, 0.3)
-        ax.set_ylim(-0.01, 0.16)
+        ax.set_xlim(*xlim)
+        ax.set_ylim(*ylim)
         ax.set_aspect("equal")
-    fig.colorbar(sc, ax=axes, label="pressure [Pa]", shrink=0.8)
-    save(fig, args, "coupled_gate_snapshots.png")
+    if sc is not None:
+        fig.colorbar(sc, ax=axes, label="pressure [Pa]", shrink=0.8)
+    save(fig, args, name)
+
+
+def gate_snapshots(args, run):
+    snapshots(args, run, GATE_SNAPSHOT_TIMES, (-0.01, 0.3), (-0.01, 0.16), 1400, "coupled_gate_snapshots.png")
+
+
+def run_or_partial(args, name):
+    """A finished run, or with --partial one still running or stopped (what it has written so far)."""
+    run = finished_run(args.runs, name)
+    if run is None and args.partial and os.path.exists(os.path.join(args.runs, name, "probes.csv")):
+        run = os.path.join(args.runs, name)
+    return run
+
+
+def tip_history(args, run, refs, label, name, components=("x",)):
+    """The probe `tip` against reference curves {component: [(path, label, marker)]}; returns the probes and
+    the rows (component, reference, RMSE, reference peak and its time)."""
+    d = read_probes(run)
+    t = d["time"]
+    fig, axes = plt.subplots(1, len(components), figsize=(5.5 * len(components), 4), squeeze=False)
+    rows = []
+    for comp, ax in zip(components, axes[0]):
+        u = d[f"tip.u{comp}"]
+        ax.plot(t, u * 1e3, "k-", lw=1.5, label=label)
+        for path, ref_label, marker in refs.get(comp, ()):
+            ref = read_reference(path)
+            ax.plot(ref[:, 0], ref[:, 1] * 1e3, marker, ms=3, mfc="none", label=ref_label)
+            rows.append([comp, ref_label, fmt(rmse_against(t, u, ref) * 1e3, 3), fmt(ref[:, 1].max() * 1e3, 3),
+                         fmt(ref[np.argmax(ref[:, 1]), 0], 3)])
+        ax.set_xlabel("t [s]")
+        ax.set_ylabel(f"tip u_{comp} [mm]")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    save(fig, args, name)
+    return d, rows
+
+
+def describe_end(run):
+    if os.path.exists(os.path.join(run, "summary.json")):
+        print("\n- " + run_line(summary(run)) + "\n")
+    else:
+        print(f"\n- Unfinished run (no summary.json): its output reaches t = {fmt(read_probes(run)['time'][-1], 3)} s.\n")
+
+
+WALHORN_REFS = (("bogaers_2016_qn_ls", "Bogaers et al. 2016, QN-LS", "o"),
+                ("idelsohn_2008_pfrem", "Idelsohn et al. 2008, PFEM", "s"),
+                ("liu_2013_sph", "Liu et al. 2013, SPH", "^"),
+                ("sun_2019_mps_dem", "Sun et al. 2019, MPS-DEM", "v"))
+
+
+def walhorn(args):
+    print("\n### Dam break on an elastic obstacle (Walhorn et al. 2005 set-up)\n")
+    run = run_or_partial(args, "walhorn")
+    if run is None:
+        print("_no run_")
+        return
+    folder = os.path.join(args.reference, "walhorn_2005_dam_break_elastic_obstacle")
+    refs = [(os.path.join(folder, f"sun_2019_dam_breaking_flow_impacting_an_elastic_plate_x_displacement_{key}.csv"),
+             label, marker) for key, label, marker in WALHORN_REFS]
+    d, rows = tip_history(args, run, {"x": [r for r in refs if os.path.exists(r[0])]},
+                          "ISPH-TLSPH (this code), dx = 2.4 mm", "coupled_walhorn_tip.png")
+    t, ux = d["time"], d["tip.ux"]
+    print(f"Peak tip u_x: {fmt(ux.max() * 1e3, 3)} mm at t = {fmt(t[np.argmax(ux)], 3)} s (references: 45-48 mm at "
+          f"0.22-0.26 s).\n")
+    table(["component", "reference", "RMSE over the run [mm]", "reference peak [mm]", "at t [s]"], rows)
+    describe_end(run)
+    snapshots(args, run, (0.05, 0.1, 0.15, 0.2, 0.25, 0.3), (-0.01, 0.6), (-0.01, 0.35), 3000,
+              "coupled_walhorn_snapshots.png")
+
+
+def liao(args):
+    print("\n### Dam break on an elastic plate (Liao et al. 2015 set-up)\n")
+    run = run_or_partial(args, "liao")
+    if run is None:
+        print("_no run_")
+        return
+    d, _ = tip_history(args, run, {}, "ISPH-TLSPH (this code), dx = 2 mm", "coupled_liao_tip.png", ("x", "y"))
+    t, ux = d["time"], d["tip.ux"]
+    print(f"Peak tip u_x: {fmt(ux.max() * 1e3, 3)} mm at t = {fmt(t[np.argmax(ux)], 3)} s.")
+    describe_end(run)
+    snapshots(args, run, (0.05, 0.1, 0.15, 0.2, 0.3, 0.4), (-0.01, 0.81), (-0.01, 0.55), 4000,
+              "coupled_liao_snapshots.png", walls=True, size=0.2)
+
+
+def sloshing(args):
+    print("\n### Rolling tank with an elastic baffle (Idelsohn et al. 2008 set-up)\n")
+    run = run_or_partial(args, "sloshing")
+    if run is None:
+        print("_no run_")
+        return
+    d, _ = tip_history(args, run, {}, "ISPH-TLSPH (this code), dx = 2 mm", "coupled_sloshing_tip.png", ("x", "y"))
+    t, ux = d["time"], d["tip.ux"]
+    print(f"Tip u_x: from {fmt(ux.min() * 1e3, 3)} to {fmt(ux.max() * 1e3, 3)} mm (the tank's roll included).")
+    describe_end(run)
+    e = read_probes(run, "energy.csv")
+    print(f"- Work of the rolling walls on the oil: {fmt(e['boundary_work'][-1], 3)} J/m at the end; the total "
+          f"(energies minus that work) changes by {fmt(e['total'][-1] - e['total'][0], 3)} J/m.\n")
+    snapshots(args, run, (0.4, 0.8, 1.2, 1.6, 1.84, 2.0), (-0.03, 0.65), (-0.04, 0.2), 1500,
+              "coupled_sloshing_snapshots.png", walls=True, size=0.3)
+
+
+STABILITY_VARIANTS = (("reference", "defaults (FSI layer, substeps from the stability limit, RK4, iterations)"),
+                      ("fsi_off", "FSI shifting layer off"),
+                      ("seed_ratio", "100 substeps per fluid step (the seed's ratio)"),
+                      ("large_step", "1 substep per fluid step (beyond the structure's limit)"),
+                      ("verlet", "velocity-Verlet structure integrator"),
+                      ("staggered", "no interface iterations (staggered)"))
+
+
+def gate_stability(args):
+    print("\n### Elastic gate: stability of the variants (T/dx = 4, to 0.06 s)\n")
+    folder = os.path.join(args.runs, "gate_stability")
+    rows = []
+    for name, label in STABILITY_VARIANTS:
+        run = finished_run(folder, name)
+        if run is None:
+            continue
+        s, e, d = summary(run), read_probes(run, "energy.csv"), read_probes(run)
+        c = coupling(s)
+        released = e["fluid_potential"][0] - e["fluid_potential"].min()
+        drift = (e["total"][-1] - e["total"][0]) / released if released > 0 else math.nan
+        rows.append([label, s["status"] + ("" if s["status"] == "completed" else f" at {fmt(s['simulated_time'], 3)} s"),
+                     c.get("fluid_inside_structure_max", "-"), fmt(c.get("min_fluid_structure_distance", math.nan) * 1e3, 3),
+                     fmt(100 * drift, 3), fmt(d["tip.ux"].max() * 1e3, 3), fmt(c.get("mean_substeps", math.nan), 3),
+                     fmt(c.get("mean_interface_iterations", math.nan), 3), fmt(s["wall_time_s"], 3)])
+    if not rows:
+        print("_no finished run_")
+        return
+    table(["variant", "outcome", "fluid inside gate (max)", "min distance [mm]", "energy change [% of released]",
+           "peak tip u_x [mm]", "substeps", "iterations", "wall [s]"], rows)
 
 
 def main(argv):
@@ -217,6 +333,10 @@ def main(argv):
         args.reference = "/work/shared/reference"
     plate(args)
     gate(args)
+    gate_stability(args)
+    walhorn(args)
+    liao(args)
+    sloshing(args)
 
 
 if __name__ == "__main__":

@@ -173,6 +173,7 @@ struct CouplingSpec {
   int max_iterations = 30;                   // interface iterations per fluid step (1: explicit, staggered)
   int reuse_steps = 8;                       // quasi-Newton: steps whose iterations are reused (0: none)
   std::string interaction_force = "pairwise";  // pairwise | gradient (Eq. 48 literally; structure/interaction.hpp)
+  std::string substep_interaction = "held";  // held (alpha of the step's end) | interpolated (from the last step's)
 };
 
 // Periodic axes: particles leaving [lo, hi) re-enter on the other side and neighbours are found

@@ -379,6 +379,7 @@ void read_fields(Table& t, CouplingSpec& c) {
   }
   t.read("fsi_shifting", c.fsi_shifting);
   read_choice(t, "interaction_force", c.interaction_force, {"gradient", "pairwise"});
+  read_choice(t, "substep_interaction", c.substep_interaction, {"held", "interpolated"});
   if (t.read("tolerance", c.tolerance) && !(c.tolerance > 0.0 && c.tolerance < 1.0))
     t.problem("tolerance", "must be > 0 and < 1 (got " + show(c.tolerance) + ")");
   read_positive_int(t, "max_iterations", c.max_iterations);
@@ -1109,6 +1110,7 @@ std::string resolved_toml(const CaseSpec& c) {
       << "substeps = " << c.coupling.substeps << "\n"
       << "fsi_shifting = " << toml_bool(c.coupling.fsi_shifting) << "\n"
       << "interaction_force = " << quote(c.coupling.interaction_force) << "\n"
+      << "substep_interaction = " << quote(c.coupling.substep_interaction) << "\n"
       << "tolerance = " << toml_float(c.coupling.tolerance) << "\n"
       << "max_iterations = " << c.coupling.max_iterations << "\n"
       << "reuse_steps = " << c.coupling.reuse_steps << "\n";

@@ -62,6 +62,7 @@ StructureCoupling<D>::StructureCoupling(TlsphSetup<D> setup, const CouplingSpec&
       spec_(coupling),
       stable_dt_(solver_.stable_dt(courant)),
       g_norm_(std::sqrt(norm2(gravity))),
+      interpolate_(coupling.substep_interaction == "interpolated"),
       quasi_newton_(coupling.reuse_steps),
       min_distance_(std::numeric_limits<Real>::infinity()) {
   const Index n = solver_.size();
@@ -78,7 +79,15 @@ int StructureCoupling<D>::substep(Real t, Real dt, Real& work) {
       spec_.substeps > 0 ? spec_.substeps : std::max(1, static_cast<int>(std::ceil(dt / stable_dt_ - 1e-9)));
   const Real h = dt / count;
   Real power = solver_.interaction_power();
+  const bool ramp = interpolate_ && has_last_interaction_;
   for (int k = 0; k < count; ++k) {
+    if (ramp) {
+      const Real s = (k + 0.5) / count;
+      substep_interaction_.resize(interaction_.size());
+      for (std::size_t a = 0; a < interaction_.size(); ++a)
+        substep_interaction_[a] = last_interaction_[a] + s * (interaction_[a] - last_interaction_[a]);
+      solver_.set_interaction(substep_interaction_);
+    }
     solver_.step(t + k * h, h);
     const Real next = solver_.interaction_power();
     work += 0.5 * h * (power + next);  // trapezoidal rule
@@ -128,6 +137,8 @@ FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid
   }
   if (!converged && spec_.max_iterations > 1) ++unconverged_;
   a_guess_ = a_new_;  // the next step starts from this step's acceleration
+  last_interaction_ = interaction_;
+  has_last_interaction_ = true;
 
   fluid.end_step(dt, timer);
   timer.time("structure", [&] {

@@ -29,6 +29,10 @@
 // when |r| <= tolerance max(|H(a)|, |g| sqrt(N)) (norms over the N structure particles).
 // coupling.max_iterations = 1 gives the staggered scheme.
 //
+// alpha over the substeps: "held" (default) applies the iterate's alpha, the pressure of the step's end,
+// to every substep; "interpolated" ramps it linearly from the last step's converged alpha, substep k
+// getting alpha^n + (k + 1/2)/n_sub (alpha^{n+1} - alpha^n) (docs/VALIDATION.md measures the difference).
+//
 // n_sub comes from the structure's own stability limit each fluid step, ceil(dt / dt_s) with
 // dt_s = courant h / c_p, or is fixed by coupling.substeps (the seed's fixed ratio, for comparison).
 #include <deque>
@@ -88,6 +92,9 @@ class StructureCoupling {
   CouplingSpec spec_;
   Real stable_dt_, g_norm_;
   std::vector<Vec<D>> force_density_, interaction_, a_guess_, a_new_, x_old_, v_new_, v_mean_;
+  std::vector<Vec<D>> last_interaction_, substep_interaction_;  // alpha^n; alpha of one substep (interpolated)
+  bool interpolate_;
+  bool has_last_interaction_ = false;
   std::vector<Real> density_;
   InterfaceQuasiNewton quasi_newton_;
   long long steps_ = 0, substeps_ = 0, iterations_ = 0, unconverged_ = 0;
