@@ -144,6 +144,7 @@ def gate(args):
         phase_table([("gate_T4", summary(run))])
     gate_energy(args, run)
     gate_snapshots(args, run)
+    gate_stress(args)
 
 
 def gate_energy(args, run):
@@ -189,6 +190,39 @@ def snapshots(args, run, times, xlim, ylim, p_max, name, walls=False, size=0.5):
     if sc is not None:
         fig.colorbar(sc, ax=axes, label="pressure [Pa]", shrink=0.8)
     save(fig, args, name)
+
+
+def gate_stress(args):
+    """The gate's sigma_yy at its largest opening (seed Fig. 18), from a run that writes the stresses."""
+    run = finished_run(args.runs, "gate_stress")
+    if run is None:
+        return
+    d = read_probes(run)
+    t_peak = d["time"][np.argmax(d["tip.ux"])]
+    snaps = snapshot_list(run)
+    t, path = snaps[closest(snaps, t_peak)]
+    sn = read_snapshot(path)
+    if "sigma_yy" not in sn:
+        print("\n_the gate_stress run has no stresses in its snapshots_")
+        return
+    x, kind = sn["position"], sn["kind"].ravel()
+    fluid, structure = kind == 0, kind == 2
+    fig, axes = plt.subplots(1, 2, figsize=(11, 5), gridspec_kw={"width_ratios": [2, 1]})
+    axes[0].scatter(x[fluid, 0], x[fluid, 1], c=sn["pressure"].ravel()[fluid], s=0.5, cmap="Blues", vmin=0, vmax=1400)
+    for ax in axes:
+        sc = ax.scatter(x[structure, 0], x[structure, 1], c=sn["sigma_yy"].ravel()[structure] / 1e3, s=3 if ax is axes[0] else 12,
+                        cmap="coolwarm", vmin=-150, vmax=150)
+        ax.set_aspect("equal")
+    axes[0].set_xlim(-0.01, 0.25)
+    axes[0].set_ylim(-0.01, 0.16)
+    axes[1].set_xlim(0.09, 0.15)
+    axes[1].set_ylim(-0.005, 0.085)
+    axes[0].set_title(f"t = {t:.3f} s (largest tip u_x): fluid pressure (blue), gate sigma_yy", fontsize=9)
+    fig.colorbar(sc, ax=axes, label="sigma_yy [kPa]", shrink=0.8)
+    save(fig, args, "coupled_gate_stress.png")
+    sy = sn["sigma_yy"].ravel()[structure]
+    print(f"\nGate stress at t = {fmt(t, 3)} s (tip u_x {fmt(d['tip.ux'].max() * 1e3, 3)} mm): sigma_yy from "
+          f"{fmt(sy.min() / 1e3, 3)} to {fmt(sy.max() / 1e3, 3)} kPa.")
 
 
 def gate_snapshots(args, run):

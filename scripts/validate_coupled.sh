@@ -28,6 +28,7 @@ if [ "${1:-all}" != "report" ]; then
   run gate_T4 cases/elastic_gate.toml &
   run plate_dry cases/hydrostatic_plate_dry.toml
   wait
+  run gate_stress cases/elastic_gate.toml --set end_time=0.1 --set output.snapshot_interval=0.005 &
   run walhorn cases/baffle_walhorn.toml &
   run sloshing cases/sloshing_baffle.toml --set end_time=2.0
   wait

@@ -85,6 +85,7 @@ class IsphSolver {
   const std::vector<Real>& pressure() const { return p_; }
   const std::vector<FluidKind>& kind() const { return kind_; }
   const std::vector<Index>& id() const { return id_; }
+  const std::vector<Index>& structure_index() const { return structure_index_; }  // -1: not a structure particle
   const std::vector<SurfaceClass>& surface_class() const { return cls_; }
   const std::vector<Real>& position_divergence() const { return div_r_; }
   const std::vector<Vec<D>>& shift() const { return shift_; }

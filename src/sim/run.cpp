@@ -312,9 +312,11 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& s
 // Fluid (ISPH), alone or coupled with structures (ISPH-TLSPH, seed 001 Algorithm 1)
 // ------------------------------------------------------------------------------------------------
 
-// Writes the fields of the fluid and wall particles, in stable-id order.
+// Writes the fields of the fluid, wall and structure particles, in stable-id order; with a coupled
+// structure, its Cauchy stress on the structure particles (zero on the others).
 template <int D>
-void write_fluid_snapshot(SnapshotWriter& writer, double t, const IsphSolver<D>& solver) {
+void write_fluid_snapshot(SnapshotWriter& writer, double t, const IsphSolver<D>& solver,
+                          const TlsphSolver<D>* structure) {
   const Index n = solver.size();
   std::vector<Index> slot(n);
   for (Index a = 0; a < n; ++a) slot[solver.id()[a]] = a;
@@ -324,9 +326,17 @@ void write_fluid_snapshot(SnapshotWriter& writer, double t, const IsphSolver<D>&
   SnapshotField p{"pressure", 1, std::vector<double>(n)}, kind{"kind", 1, std::vector<double>(n)},
       surface{"surface_class", 1, std::vector<double>(n)}, div_r{"div_r", 1, std::vector<double>(n)},
       id{"id", 1, std::vector<double>(n)};
+  SnapshotField sxx{"sigma_xx", 1, std::vector<double>(n, 0.0)}, syy{"sigma_yy", 1, std::vector<double>(n, 0.0)},
+      sxy{"sigma_xy", 1, std::vector<double>(n, 0.0)};
   for (Index k = 0; k < n; ++k) {
     const Index a = slot[k];
     pos[k] = to_array(solver.position()[a]);
+    if (const Index s = solver.structure_index()[a]; structure && s >= 0) {
+      const Mat<D> sigma = structure->cauchy_stress(s);
+      sxx.data[k] = sigma(0, 0);
+      syy.data[k] = sigma(1, 1);
+      sxy.data[k] = sigma(0, 1);
+    }
     put_vector(vel, k, solver.velocity()[a]);
     put_vector(shift, k, solver.shift()[a]);
     p.data[k] = solver.pressure()[a];
@@ -335,7 +345,9 @@ void write_fluid_snapshot(SnapshotWriter& writer, double t, const IsphSolver<D>&
     div_r.data[k] = solver.position_divergence()[a];
     id.data[k] = k;
   }
-  writer.write(t, pos, {vel, p, kind, surface, div_r, shift, id});
+  std::vector<SnapshotField> fields{vel, p, kind, surface, div_r, shift, id};
+  if (structure) fields.insert(fields.end(), {sxx, syy, sxy});
+  writer.write(t, pos, fields);
 }
 
 // First fluid particle outside the escape box, or -1.
@@ -398,7 +410,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   };
   auto snapshot = [&](Real t) {
     timer.time("output", [&] {
-      write_fluid_snapshot(frame.snapshots, t, solver);
+      write_fluid_snapshot(frame.snapshots, t, solver, coupling ? &coupling->solver() : nullptr);
       frame.flush();
     });
   };
