@@ -35,6 +35,9 @@ void InterfaceQuasiNewton::begin_step() {
 
 Eigen::VectorXd InterfaceQuasiNewton::next(const Eigen::VectorXd& x, const Eigen::VectorXd& hx) {
   const Eigen::VectorXd r = hx - x;
+  // A residual that grows means the reused columns describe another state of the interface (an
+  // impact changes it within a step): they are dropped, and reuse starts again from this step.
+  if (has_last_ && r.norm() > last_r_.norm()) earlier_.clear();
   if (has_last_) current_.push_back({r - last_r_, hx - last_h_});
   last_r_ = r;
   last_h_ = hx;

@@ -25,7 +25,10 @@
 // 87:793): with residuals r = H(a) - a, the differences of r and of H(a) between iterations (of this
 // step and of the last `reuse_steps` steps) form V and W, and
 //   a_{k+1} = H(a_k) + W c,   c = argmin |V c + r_k|   (least squares, column-pivoted QR);
-// the first iterate of a run, without any columns, is relaxed: a_1 = a_0 + 0.1 r_0. The iterations stop
+// the first iterate of a run, without any columns, is relaxed: a_1 = a_0 + 0.1 r_0. When |r| grows from
+// one iteration to the next, the reused columns of earlier steps are dropped: at the Walhorn obstacle's
+// impact they led the iterations astray (12 steps without convergence, then non-finite values). The
+// iterations stop
 // when |r| <= tolerance max(|H(a)|, |g| sqrt(N)) (norms over the N structure particles).
 // coupling.max_iterations = 1 gives the staggered scheme.
 //
