@@ -446,8 +446,9 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
                     spec.fluid.ppe.fallback == "none" ? "; a fallback solver can be set with fluid.ppe.fallback" : "");
       frame.diverge(buf);
     } else if (const Index bad = solver.first_non_finite(); bad >= 0) {
-      std::snprintf(buf, sizeof buf, "fluid particle id %d became non-finite at t = %.6g s (step %lld)",
-                    solver.id()[bad], t, step);
+      static const char* const kKindNames[] = {"fluid", "wall", "structure"};
+      std::snprintf(buf, sizeof buf, "%s particle id %d became non-finite at t = %.6g s (step %lld)",
+                    kKindNames[static_cast<int>(solver.kind()[bad])], solver.id()[bad], t, step);
       frame.diverge(buf);
     } else if (dt < 1e-3 * first_dt && dt < left) {
       std::snprintf(buf, sizeof buf,
