@@ -40,6 +40,12 @@ std::vector<std::array<double, 2>> read_table(const fs::path& file) {
   return rows;
 }
 
+// The hydrostatic tank's walls thickened to three layers at dx = 0.05 m.
+const std::string kTankWalls =
+    " --set 'bodies.floor.shape={type=\"rectangle\",min=[-0.15,-0.15],max=[1.15,0.0]}'"
+    " --set 'bodies.left_wall.shape={type=\"rectangle\",min=[-0.15,0.0],max=[0.0,1.2]}'"
+    " --set 'bodies.right_wall.shape={type=\"rectangle\",min=[1.0,0.0],max=[1.15,1.2]}'";
+
 }  // namespace
 
 // Still water, H/dx = 20 (walls thickened to three layers), 2 s: the bottom pressure is rho g H within
@@ -47,12 +53,8 @@ std::vector<std::array<double, 2>> read_table(const fs::path& file) {
 // the first second.
 TEST(HydrostaticTank, CoarseStillWater) {
   const fs::path out = fresh_dir("hydrostatic");
-  const std::string walls =
-      " --set 'bodies.floor.shape={type=\"rectangle\",min=[-0.15,-0.15],max=[1.15,0.0]}'"
-      " --set 'bodies.left_wall.shape={type=\"rectangle\",min=[-0.15,0.0],max=[0.0,1.2]}'"
-      " --set 'bodies.right_wall.shape={type=\"rectangle\",min=[1.0,0.0],max=[1.15,1.2]}'";
   const auto r = isph("run " + kCases + "hydrostatic_tank.toml --quiet --out " + out.string() +
-                      " --set dx=0.05 --set end_time=2 --set output.snapshots=false" + walls);
+                      " --set dx=0.05 --set end_time=2 --set output.snapshots=false" + kTankWalls);
   ASSERT_EQ(r.status, 0) << r.output;
   auto p = read_csv(out / "probes.csv");
   const double rho_g_h = 1000 * 9.81 * 1.0;
@@ -72,13 +74,9 @@ TEST(HydrostaticTank, CoarseStillWater) {
 // viscous term fell back to the plain form there; sim/fluid_functors.hpp).
 TEST(HydrostaticTank, ViscousLiquidStaysStillWhereTheSurfaceMeetsTheWalls) {
   const fs::path out = fresh_dir("hydrostatic_viscous");
-  const std::string walls =
-      " --set 'bodies.floor.shape={type=\"rectangle\",min=[-0.15,-0.15],max=[1.15,0.0]}'"
-      " --set 'bodies.left_wall.shape={type=\"rectangle\",min=[-0.15,0.0],max=[0.0,1.2]}'"
-      " --set 'bodies.right_wall.shape={type=\"rectangle\",min=[1.0,0.0],max=[1.15,1.2]}'";
   const auto r = isph("run " + kCases + "hydrostatic_tank.toml --quiet --out " + out.string() +
                       " --set dx=0.05 --set end_time=2 --set output.snapshots=false"
-                      " --set materials.water.viscosity=0.03" + walls);
+                      " --set materials.water.viscosity=0.03" + kTankWalls);
   ASSERT_EQ(r.status, 0) << r.output;
   auto p = read_csv(out / "probes.csv");
   double fastest = 0;
