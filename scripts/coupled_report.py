@@ -125,14 +125,11 @@ def rmse_against(t, u, ref):
 
 
 def gate(args):
-    print("\n### Elastic gate\n")
-    run = run_or_partial(args, "gate_T4")
+    run = open_section(args, "Elastic gate", "gate_T4")
     if run is None:
-        print("_no finished run_")
         return
     folder = os.path.join(args.reference, "antoci_2007_elastic_gate")
-    refs = {comp: [(path, label, marker) for key, label, marker in GATE_REFS
-                   if os.path.exists(path := os.path.join(folder, f"ng_2020_elastic_dam_break_{comp}_displacement_{key}.csv"))]
+    refs = {comp: reference_curves(folder, f"ng_2020_elastic_dam_break_{comp}_displacement_{{}}.csv", GATE_REFS)
             for comp in ("x", "y")}
     d, rows = tip_history(args, run, refs, "ISPH-TLSPH (this code), T/dx = 4", "coupled_gate_tip.png", ("x", "y"))
     t, ux, uy = d["time"], d["tip.ux"], d["tip.uy"]
@@ -229,6 +226,21 @@ def gate_snapshots(args, run):
     snapshots(args, run, GATE_SNAPSHOT_TIMES, (-0.01, 0.3), (-0.01, 0.16), 1400, "coupled_gate_snapshots.png")
 
 
+def open_section(args, title, name):
+    """Prints the section's title; returns the run (finished, or with --partial as far as it got), or None."""
+    print(f"\n### {title}\n")
+    run = run_or_partial(args, name)
+    if run is None:
+        print("_no run_")
+    return run
+
+
+def reference_curves(folder, pattern, table):
+    """[(path, label, marker)] for the rows (key, label, marker) of `table` whose file pattern.format(key) exists."""
+    return [(path, label, marker) for key, label, marker in table
+            if os.path.exists(path := os.path.join(folder, pattern.format(key)))]
+
+
 def run_or_partial(args, name):
     """A finished run, or with --partial one still running or stopped (what it has written so far)."""
     run = finished_run(args.runs, name)
@@ -275,15 +287,13 @@ WALHORN_REFS = (("bogaers_2016_qn_ls", "Bogaers et al. 2016, QN-LS", "o"),
 
 
 def walhorn(args):
-    print("\n### Dam break on an elastic obstacle (Walhorn et al. 2005 set-up)\n")
-    run = run_or_partial(args, "walhorn")
+    run = open_section(args, "Dam break on an elastic obstacle (Walhorn et al. 2005 set-up)", "walhorn")
     if run is None:
-        print("_no run_")
         return
     folder = os.path.join(args.reference, "walhorn_2005_dam_break_elastic_obstacle")
-    refs = [(os.path.join(folder, f"sun_2019_dam_breaking_flow_impacting_an_elastic_plate_x_displacement_{key}.csv"),
-             label, marker) for key, label, marker in WALHORN_REFS]
-    d, rows = tip_history(args, run, {"x": [r for r in refs if os.path.exists(r[0])]},
+    refs = reference_curves(folder, "sun_2019_dam_breaking_flow_impacting_an_elastic_plate_x_displacement_{}.csv",
+                            WALHORN_REFS)
+    d, rows = tip_history(args, run, {"x": refs},
                           "ISPH-TLSPH (this code), dx = 2.4 mm", "coupled_walhorn_tip.png")
     t, ux = d["time"], d["tip.ux"]
     print(f"Peak tip u_x: {fmt(ux.max() * 1e3, 3)} mm at t = {fmt(t[np.argmax(ux)], 3)} s (references: 45-48 mm at "
@@ -296,10 +306,8 @@ def walhorn(args):
 
 def case_without_reference(args, title, name, snap_times, xlim, ylim, p_max, size):
     """A case with no reference curve: its tip history (x and y) and snapshots; returns the run or None."""
-    print(f"\n### {title}\n")
-    run = run_or_partial(args, name)
+    run = open_section(args, title, name)
     if run is None:
-        print("_no run_")
         return None
     d, _ = tip_history(args, run, {}, "ISPH-TLSPH (this code)", f"coupled_{name}_tip.png", ("x", "y"))
     t, ux = d["time"], d["tip.ux"]
