@@ -149,8 +149,20 @@ struct ShiftingSpec {
   bool taylor_correction = true;             // Eqs. 20, 31-32
 };
 
-// The ISPH fluid stage (seed 001 §2.1).
+// The weakly compressible comparator (seed 002; sim/wcsph.hpp).
+struct WcsphSpec {
+  std::string time_stepping = "dual_criteria";  // dual_criteria (Eqs. 9-15) | single_criterion
+  double advection_courant = 0.25;           // Eq. 9: CFL_ad
+  double acoustic_courant = 0.6;             // Eq. 10: CFL_ac; default 0.6 (dual_criteria) or 0.25 (single_criterion)
+  double sound_speed = 0.0;                  // c of Eq. 2 [m/s]; 0: 10 U_max, U_max = sqrt(2) x the reference velocity
+  double riemann_limiter = 3.0;              // eta of the low-dissipation limiter beta = min(eta max(U_L - U_R, 0)/c, 1)
+};
+
+// The fluid stage: the projection ISPH of seed 001 §2.1 (model "isph") or the weakly compressible
+// comparator of seed 002 (model "wcsph"; it shares the particles, walls, viscosity, probes and coupling,
+// and ignores the ISPH-only keys: free-surface thresholds, shifting, ppe).
 struct FluidSpec {
+  std::string model = "isph";                // isph | wcsph
   double courant = 0.1;                      // Eq. 49: dt = courant h / U
   double viscous_number = 0.125;             // dt <= viscous_number h^2 / nu
   double reference_velocity = 0.0;           // floor on U in Eq. 49 [m/s]; 0: sqrt(2 |g| H_fluid), or the fastest wall
@@ -163,6 +175,7 @@ struct FluidSpec {
   std::string surface_pressure = "extrapolated";  // zero (p = 0 at surface particles) | extrapolated (p = 0 dx/2 beyond)
   ShiftingSpec shifting;
   PpeSolverSpec ppe;
+  WcsphSpec wcsph;
 };
 
 // The fluid-structure coupling (seed 001 §2.3), used when a case has fluid and structure bodies.

@@ -440,7 +440,18 @@ void read_fields(Table& t, PpeSolverSpec& p) {
 double default_surface_threshold(int dimension) { return dimension == 2 ? 1.4 : 2.4; }
 double default_surface_full(int dimension) { return dimension == 2 ? 1.6 : 2.6; }
 
+void read_fields(Table& t, WcsphSpec& w) {
+  read_choice(t, "time_stepping", w.time_stepping, {"dual_criteria", "single_criterion"});
+  read_positive(t, "advection_courant", w.advection_courant);
+  if (!t.has("acoustic_courant"))  // seed 002 §2.2: 0.6 with dual-criteria stepping, 0.25 without
+    w.acoustic_courant = w.time_stepping == "dual_criteria" ? 0.6 : 0.25;
+  read_positive(t, "acoustic_courant", w.acoustic_courant);
+  read_non_negative(t, "sound_speed", w.sound_speed);
+  read_non_negative(t, "riemann_limiter", w.riemann_limiter);
+}
+
 void read_fields(Table& t, FluidSpec& f) {
+  read_choice(t, "model", f.model, {"isph", "wcsph"});
   read_positive(t, "courant", f.courant);
   read_positive(t, "viscous_number", f.viscous_number);
   read_non_negative(t, "reference_velocity", f.reference_velocity);
@@ -461,6 +472,7 @@ void read_fields(Table& t, FluidSpec& f) {
                                   (f.surface_threshold > 0.0 ? "" : " (default)") + ")");
   t.read("shifting", f.shifting);
   t.read("ppe", f.ppe);
+  t.read("wcsph", f.wcsph);
 }
 
 // Each axis: [lo, hi] with hi > lo.
@@ -1053,6 +1065,7 @@ void write_probe(std::ostream& out, const ProbeSpec& p, int dimension) {
 
 void write_fluid(std::ostream& out, const FluidSpec& f) {
   out << "\n[fluid]\n"
+      << "model = " << quote(f.model) << "\n"
       << "courant = " << toml_float(f.courant) << "\n"
       << "viscous_number = " << toml_float(f.viscous_number) << "\n"
       << "reference_velocity = " << toml_float(f.reference_velocity) << "\n"
@@ -1074,7 +1087,13 @@ void write_fluid(std::ostream& out, const FluidSpec& f) {
       << "preconditioner = " << quote(f.ppe.preconditioner) << "\n"
       << "tolerance = " << toml_float(f.ppe.tolerance) << "\n"
       << "max_iterations = " << f.ppe.max_iterations << "\n"
-      << "fallback = " << quote(f.ppe.fallback) << "\n";
+      << "fallback = " << quote(f.ppe.fallback) << "\n"
+      << "\n[fluid.wcsph]\n"
+      << "time_stepping = " << quote(f.wcsph.time_stepping) << "\n"
+      << "advection_courant = " << toml_float(f.wcsph.advection_courant) << "\n"
+      << "acoustic_courant = " << toml_float(f.wcsph.acoustic_courant) << "\n"
+      << "sound_speed = " << toml_float(f.wcsph.sound_speed) << "\n"
+      << "riemann_limiter = " << toml_float(f.wcsph.riemann_limiter) << "\n";
 }
 
 // Only the periodic axes; no table when there are none.

@@ -149,11 +149,7 @@ FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid
     fluid.move_structure(solver_.position(), v_new_, solver_.deformation_gradient());
     v_mean_.swap(v_new_);
   });
-  timer.time("interaction", [&] {
-    const InteractionReport<D> contact = fluid.structure_contact();
-    max_inside_ = std::max(max_inside_, contact.fluid_inside);
-    min_distance_ = std::min(min_distance_, contact.min_distance);
-  });
+  record_contact(fluid, timer);
   interaction_work_ += work;
   force_sum_ += force;
   substeps_ += count;
@@ -162,6 +158,42 @@ FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid
   max_iterations_seen_ = std::max(max_iterations_seen_, iteration);
   ++steps_;
   return report;
+}
+
+template <int D>
+void StructureCoupling<D>::explicit_step(Real t, Real dt, WcsphSolver<D>& fluid, PhaseTimer& timer) {
+  const Index n = solver_.size();
+  Vec<D> force = Vec<D>::zero();
+  timer.time("interaction", [&] {
+    force = fluid.structure_pressure_force(force_density_);
+    for (Index a = 0; a < n; ++a) interaction_[a] = (1.0 / density_[a]) * force_density_[a];  // Eq. 48
+    solver_.set_interaction(interaction_);
+  });
+  Real work = 0;
+  int count = 0;
+  timer.time("structure", [&] {
+    x_old_ = solver_.position();
+    count = substep(t, dt, work);
+    solver_.update_stress();
+    for (Index a = 0; a < n; ++a) v_new_[a] = (1.0 / dt) * (solver_.position()[a] - x_old_[a]);
+    fluid.move_structure(solver_.position(), v_new_, solver_.deformation_gradient());
+  });
+  interaction_work_ += work;
+  force_sum_ += force;
+  substeps_ += count;
+  max_substeps_ = std::max(max_substeps_, count);
+  ++iterations_;
+  max_iterations_seen_ = std::max(max_iterations_seen_, 1);
+  ++steps_;
+}
+
+template <int D>
+void StructureCoupling<D>::record_contact(FluidParticles<D>& fluid, PhaseTimer& timer) {
+  timer.time("interaction", [&] {
+    const InteractionReport<D> contact = fluid.structure_contact();
+    max_inside_ = std::max(max_inside_, contact.fluid_inside);
+    min_distance_ = std::min(min_distance_, contact.min_distance);
+  });
 }
 
 template <int D>

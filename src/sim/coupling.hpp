@@ -36,6 +36,13 @@
 // to every substep; "interpolated" ramps it linearly from the last step's converged alpha, substep k
 // getting alpha^n + (k + 1/2)/n_sub (alpha^{n+1} - alpha^n) (docs/VALIDATION.md measures the difference).
 //
+// The weakly compressible model (sim/wcsph.hpp) couples explicitly instead (explicit_step): over each
+// of its acoustic steps the structure feels the pressure force of the step's start, held over the
+// substeps, and the fluid sees the structure's chord velocity; at those small steps the fluid's
+// compressibility keeps the staggered scheme stable. The structure's acceleration is not handed to the
+// fluid (its boundary pressure takes g alone): in the boundary pressure of Adami et al. it closes an
+// explicit added-mass loop, and the gate blew up within 5 ms with it (measured, 2026-11-22).
+//
 // n_sub comes from the structure's own stability limit each fluid step, ceil(dt / dt_s) with
 // dt_s = courant h / c_p, or is fixed by coupling.substeps (the seed's fixed ratio, for comparison).
 #include <deque>
@@ -46,6 +53,7 @@
 #include "io/case.hpp"
 #include "io/output.hpp"
 #include "sim/isph.hpp"
+#include "sim/wcsph.hpp"
 #include "sim/phase_timer.hpp"
 #include "structure/tlsph.hpp"
 
@@ -78,6 +86,11 @@ class StructureCoupling {
 
   // One coupled step from t to t + dt: the fluid step with the interface iterations inside it.
   FluidStepReport step(Real t, Real dt, IsphSolver<D>& fluid, PhaseTimer& timer);
+  // One explicit step from t to t + dt under the fluid's last pressure force; the structure's motion
+  // over the step goes to the fluid (positions, chord velocity, normals).
+  void explicit_step(Real t, Real dt, WcsphSolver<D>& fluid, PhaseTimer& timer);
+  // Penetration diagnostics after a fluid step.
+  void record_contact(FluidParticles<D>& fluid, PhaseTimer& timer);
 
   const TlsphSolver<D>& solver() const { return solver_; }
   long long substeps() const { return substeps_; }

@@ -38,34 +38,27 @@ struct VelocityGradient {
   }
 };
 
-// Intermediate velocity, Eqs. 12-13: u*_a = u_a + dt (g + lap_nu u_a), with the Fatehi-Manzari
-// renormalised Laplacian (kernels/operators.hpp) applied per component and the pair viscosity
-// nu_ab = (nu_a + nu_b)/2 (nu = laminar + eddy; the seed's mu_ab/rho_a for one density):
+// Viscous acceleration lap_nu u_a of seed Eqs. 12-13, with the Fatehi-Manzari renormalised Laplacian
+// (kernels/operators.hpp) applied per component and the pair viscosity nu_ab = (nu_a + nu_b)/2
+// (nu = laminar + eddy; the seed's mu_ab/rho_a for one density):
 //   lap_nu u_a = sum_b w_ab nu_ab ((u_a - u_b)/|r_ab| - (G_a r_ab)/|r_ab|),  w_ab = 2 e_ab · B^_a g_ab.
-// The explicit update needs a dissipative operator: where the renormalisation of a truncated support
+// An explicit update needs a dissipative operator: where the renormalisation of a truncated support
 // (a free surface meeting a wall) is not positive definite, w_ab takes the wrong sign and the update
 // amplifies velocity differences at a rate independent of dt (measured: sunflower oil, nu = 5e-5, at
 // rest in a tank blows up at the surface corners within 0.1 s, at dt = 4.8e-4 and at 1e-4). There
-// the plain form B^ = I is used (Morris et al. 1997, always dissipative).
-// Wall and structure particles get the intermediate velocity that the projection would turn into
-// their own new velocity: u*_w = U_w + dt g, which the wall pressure gradient rho (g - a_w) of
-// PpeRowFill takes to U_w + dt a_w; so a fluid at rest stays at rest.
+// the plain form B^ = I is used (Morris et al. 1997, always dissipative). Shared by the ISPH predictor
+// and the weakly compressible model (sim/wcsph_functors.hpp); as a loop it writes zero on non-fluid
+// particles.
 template <int D>
-struct VelocityPredictor {
+struct ViscousAcceleration {
   FluidView<D> v;
   const Mat<D>* Bhat;
   const Mat<D>* grad;
   const Vec<D>* u;
   const Real* eddy_viscosity;  // nullptr: laminar only
   Real viscosity;
-  Vec<D> gravity;
-  Real dt;
-  Vec<D>* u_star;
-  ISPH_HD void operator()(Index a) const {
-    if (!v.is_fluid(a)) {
-      u_star[a] = v.wall_velocity[a] + dt * gravity;
-      return;
-    }
+  Vec<D>* out = nullptr;
+  ISPH_HD Vec<D> at(Index a) const {
     const OperatorView<D>& op = v.op;
     const Real nu_a = viscosity + (eddy_viscosity ? eddy_viscosity[a] : 0);
     const Mat<D> bhat = positive_definite(Bhat[a]) ? Bhat[a] : Mat<D>::identity();
@@ -80,7 +73,28 @@ struct VelocityPredictor {
                      laplacian_pair_weight(bhat, r_ab, rho, op.volume[b] * op.kernel.gradient(r_ab));
       lap += (w / rho) * (u[a] - v.velocity_seen(a, b, u) - grad[a] * r_ab);
     }
-    u_star[a] = u[a] + dt * (gravity + lap);
+    return lap;
+  }
+  ISPH_HD void operator()(Index a) const { out[a] = v.is_fluid(a) ? at(a) : Vec<D>::zero(); }
+};
+
+// Intermediate velocity, Eqs. 12-13: u*_a = u_a + dt (g + lap_nu u_a) (ViscousAcceleration).
+// Wall and structure particles get the intermediate velocity that the projection would turn into
+// their own new velocity: u*_w = U_w + dt g, which the wall pressure gradient rho (g - a_w) of
+// PpeRowFill takes to U_w + dt a_w; so a fluid at rest stays at rest.
+template <int D>
+struct VelocityPredictor {
+  ViscousAcceleration<D> viscous;
+  Vec<D> gravity;
+  Real dt;
+  Vec<D>* u_star;
+  ISPH_HD void operator()(Index a) const {
+    const FluidView<D>& v = viscous.v;
+    if (!v.is_fluid(a)) {
+      u_star[a] = v.wall_velocity[a] + dt * gravity;
+      return;
+    }
+    u_star[a] = viscous.u[a] + dt * (gravity + viscous.at(a));
   }
 };
 

@@ -13,9 +13,6 @@ namespace isph {
 
 namespace {
 
-// Sorting particles by cell keeps neighbours close in memory; positions drift, so re-sort this often.
-constexpr long long kSortInterval = 20;
-
 SolverSettings solver_settings(const PpeSolverSpec& s, const std::string& backend) {
   SolverSettings out;
   out.backend = backend;
@@ -26,12 +23,6 @@ SolverSettings solver_settings(const PpeSolverSpec& s, const std::string& backen
   out.tolerance = s.tolerance;
   out.max_iterations = s.max_iterations;
   return out;
-}
-
-template <class T>
-void permute(std::vector<T>& v, const std::vector<Index>& order) {
-  std::vector<T> copy(v);
-  for (std::size_t k = 0; k < order.size(); ++k) v[k] = copy[order[k]];
 }
 
 }  // namespace
@@ -45,42 +36,15 @@ ShiftingType shifting_type_from_name(const std::string& name) {
 
 template <int D>
 IsphSolver<D>::IsphSolver(FluidSetup<D> s)
-    : x_(std::move(s.x)),
-      u_(std::move(s.u)),
-      volume_(std::move(s.volume)),
-      wall_depth_(std::move(s.wall_depth)),
-      kind_(std::move(s.kind)),
-      wall_velocity_(std::move(s.wall_velocity)),
-      wall_normal_(std::move(s.wall_normal)),
-      id_(std::move(s.id)),
-      structure_index_(std::move(s.structure_index)),
-      motion_(std::move(s.motion)),
-      reference_x_(x_),
-      density_(s.density),
-      viscosity_(s.viscosity),
-      dx_(s.dx),
-      reference_velocity_(s.reference_velocity),
-      kernel_(s.kernel),
+    : Base(s),
       kernel_correction_(s.kernel_correction),
-      period_(s.period),
-      gravity_(s.gravity),
-      settings_(s.settings),
       shifting_(shifting_type_from_name(s.settings.shifting.type)),
       extrapolate_surface_(s.settings.surface_pressure == "extrapolated"),
       fsi_shifting_(s.fsi_shifting),
-      pairwise_force_(s.interaction_force == "pairwise"),
-      motions_(std::move(s.motions)) {
+      pairwise_force_(s.interaction_force == "pairwise") {
   const std::size_t n = x_.size();
-  if (structure_index_.empty()) structure_index_.assign(n, -1);
-  if (motion_.empty()) motion_.assign(n, -1);
-  has_structure_ = std::count(kind_.begin(), kind_.end(), FluidKind::structure) > 0;
-  wall_acceleration_.assign(n, Vec<D>::zero());
-  reference_normal_ = wall_normal_;
   wall_moment_.assign(n, Vec<D>::zero());
   L_structure_.assign(n, Mat<D>::identity());
-  p_.assign(n, 0);
-  fluid_count_ = static_cast<Index>(std::count(kind_.begin(), kind_.end(), FluidKind::fluid));
-  wall_count_ = static_cast<Index>(std::count(kind_.begin(), kind_.end(), FluidKind::wall));
   const Real full = D;  // div r in a full support
   thresholds_.chi = settings_.surface_threshold > 0 ? settings_.surface_threshold : full - 0.6;
   thresholds_.chi_full = settings_.surface_full > 0 ? settings_.surface_full : full - 0.4;
@@ -108,43 +72,6 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
 }
 
 template <int D>
-FluidView<D> IsphSolver<D>::view() const {
-  OperatorView<D> op{size(), x_.data(), volume_.data(), neighbours_.offset.data(), neighbours_.index.data(),
-                     kernel_, period_};
-  return {op,       kind_.data(),        wall_velocity_.data(), wall_acceleration_.data(), wall_normal_.data(),
-          wall_depth_.data(), dx_};
-}
-
-template <int D>
-void IsphSolver<D>::sort_by_cell() {
-  const std::vector<Index> order = cells_.order();
-  permute(x_, order);
-  permute(u_, order);
-  permute(p_, order);
-  permute(volume_, order);
-  permute(wall_depth_, order);
-  permute(kind_, order);
-  permute(wall_velocity_, order);
-  permute(wall_acceleration_, order);
-  permute(wall_normal_, order);
-  permute(reference_normal_, order);
-  permute(id_, order);
-  permute(structure_index_, order);
-  permute(motion_, order);
-  permute(reference_x_, order);
-}
-
-template <int D>
-void IsphSolver<D>::find_neighbours() {
-  cells_.build(x_, kernel_.support(), period_);
-  if (steps_ % kSortInterval == 0) {
-    sort_by_cell();
-    cells_.build(x_, kernel_.support(), period_);
-  }
-  neighbours_ = neighbour_list(cells_, size());
-}
-
-template <int D>
 void IsphSolver<D>::compress_matrix() {
   const CsrMatrix& full = full_matrix_;
   const Index n = full.rows;
@@ -160,20 +87,12 @@ void IsphSolver<D>::compress_matrix() {
 }
 
 template <int D>
-Real IsphSolver<D>::max_speed() const {
-  Real u2 = 0;
-  for (Index a = 0; a < size(); ++a)
-    if (kind_[a] == FluidKind::fluid) u2 = std::max(u2, norm2(u_[a]));
-  return std::sqrt(u2);
-}
-
-template <int D>
 Real IsphSolver<D>::time_step() const {
   const Real h = kernel_.h;
-  const Real u = std::max(max_speed(), reference_velocity_);
+  const Real u = std::max(this->max_speed(), reference_velocity_);
   Real dt = settings_.courant * h / u;  // Eq. 49
   Real nu_max = viscosity_;
-  for (Index a = 0; a < size(); ++a) nu_max = std::max(nu_max, viscosity_ + eddy_viscosity_[a]);
+  for (Index a = 0; a < this->size(); ++a) nu_max = std::max(nu_max, viscosity_ + eddy_viscosity_[a]);
   if (nu_max > 0) dt = std::min(dt, settings_.viscous_number * h * h / nu_max);
   if (settings_.max_dt > 0) dt = std::min(dt, settings_.max_dt);
   return dt;
@@ -190,20 +109,20 @@ FluidStepReport IsphSolver<D>::step(Real dt, PhaseTimer& timer) {
 
 template <int D>
 void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
-  const Index n = size();
+  const Index n = this->size();
   const bool sps = settings_.turbulence == "sps";
 
-  if (!motions_.empty()) timer.time("wall_motion", [&] { prescribe_walls(dt); });
+  if (!motions_.empty()) timer.time("wall_motion", [&] { this->prescribe_walls(dt); });
 
   // Eq. 11: r* = r^n + dt u^n (walls move with their prescribed velocity). The neighbours are found
   // at r*, where the particles may be re-sorted; r^n is then recovered as r* - dt u^n.
   timer.time("neighbours", [&] {
     auto drift = [&](Index a) { return dt * (kind_[a] == FluidKind::fluid ? u_[a] : wall_velocity_[a]); };
     for (Index a = 0; a < n; ++a) x_[a] = period_.wrap(x_[a] + drift(a));
-    find_neighbours();
+    this->find_neighbours();
     for (Index a = 0; a < n; ++a) x_old_[a] = x_[a] - drift(a);
   });
-  const FluidView<D> v = view();
+  const FluidView<D> v = this->view();
   FluidView<D> pv = v;  // the pressure stages' view: dry walls have no volume (PressureVolume)
   pv.op.volume = pressure_volume_.data();
 
@@ -215,9 +134,9 @@ void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
     }
     parallel_for(exec_, n, VelocityGradient<D>{v, L_.data(), u_.data(), true, sps ? settings_.smagorinsky : 0.0,
                                                grad_u_.data(), eddy_viscosity_.data()});
-    parallel_for(exec_, n, VelocityPredictor<D>{v, Bhat_.data(), grad_u_.data(), u_.data(),
-                                                sps ? eddy_viscosity_.data() : nullptr, viscosity_, gravity_, dt,
-                                                u_star_.data()});
+    const ViscousAcceleration<D> viscous{v, Bhat_.data(), grad_u_.data(), u_.data(),
+                                         sps ? eddy_viscosity_.data() : nullptr, viscosity_};
+    parallel_for(exec_, n, VelocityPredictor<D>{viscous, gravity_, dt, u_star_.data()});
   });
 
   // Free surface (Fig. 2) and Skillen's coefficient (Eq. 17).
@@ -276,8 +195,8 @@ void IsphSolver<D>::solve_pressure(FluidStepReport& report, PhaseTimer& timer) {
 
 template <int D>
 void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
-  const Index n = size();
-  const FluidView<D> v = view();
+  const Index n = this->size();
+  const FluidView<D> v = this->view();
   FluidView<D> pv = v;
   pv.op.volume = pressure_volume_.data();
 
@@ -293,7 +212,7 @@ void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
   if (shifting_ != ShiftingType::none)
     timer.time("shifting", [&] {
       if (kernel_correction_) parallel_for(exec_, n, GradientCorrection<D>{pv.op, L_.data()});
-      const Real zeta = max_speed() * dt;
+      const Real zeta = this->max_speed() * dt;
       parallel_for(exec_, n, ShiftDisplacement<D>{pv, cls_.data(), surface_normal_.data(), shifting_,
                                                   settings_.shifting.coefficient, zeta,
                                                   settings_.shifting.max_fraction * kernel_.h,
@@ -308,151 +227,45 @@ void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
       }
       parallel_for(exec_, n, ApplyShift<D>{shift_.data(), period_, x_.data()});
     });
-  if (!motions_.empty()) timer.time("wall_motion", [&] { wall_work_ += dt * moving_wall_power(); });
+  if (!motions_.empty())
+    timer.time("wall_motion", [&] {
+      boundary_pressure_force(true, FluidKind::wall);
+      wall_work_ += dt * this->moving_wall_power();
+    });
   time_ += dt;
-  ++steps_;
-}
-
-// Moving walls over [t, t + dt]: from x(t) they move by their chord of the step, with the velocity
-// (x(t + dt) - x(t))/dt (what the fluid sees of a structure too, sim/coupling.hpp), the acceleration
-// (v(t + dt) - v(t))/dt in their PPE rows, and their normals turned to t + dt.
-template <int D>
-void IsphSolver<D>::prescribe_walls(Real dt) {
-  for (Index a = 0; a < size(); ++a) {
-    if (motion_[a] < 0) continue;
-    const RigidMotion<D>& m = motions_[motion_[a]];
-    const Vec<D>& X = reference_x_[a];
-    const Vec<D> start = m.position(X, time_);
-    x_[a] = period_.wrap(start);
-    u_[a] = wall_velocity_[a] = (1.0 / dt) * (m.position(X, time_ + dt) - start);
-    wall_acceleration_[a] = (1.0 / dt) * (m.velocity(X, time_ + dt) - m.velocity(X, time_));
-    wall_normal_[a] = m.rotation(time_ + dt) * reference_normal_[a];
-  }
-}
-
-// Power of the moving walls' pressure force on the fluid, sum_w -V_w f_w · u_w, with f_w the pairwise
-// pressure force per unit volume on wall particle w (structure/interaction.hpp).
-template <int D>
-Real IsphSolver<D>::moving_wall_power() {
-  const Index n = size();
-  boundary_force_.resize(n);
-  parallel_for(exec_, n, BoundaryPressureForce<D>{view(), p_.data(), L_structure_.data(), grad_p_.data(),
-                                                  boundary_force_.data(), true, FluidKind::wall});
-  Real power = 0;
-  for (Index a = 0; a < n; ++a)
-    if (motion_[a] >= 0) power -= volume_[a] * dot(boundary_force_[a], wall_velocity_[a]);
-  return power;
 }
 
 template <int D>
-void IsphSolver<D>::move_structure(const std::vector<Vec<D>>& x, const std::vector<Vec<D>>& v,
-                                   const std::vector<Mat<D>>& F) {
-  for (Index k = 0; k < size(); ++k) {
-    const Index s = structure_index_[k];
-    if (s < 0) continue;
-    x_[k] = x[s];
-    u_[k] = wall_velocity_[k] = v[s];
-    const Vec<D> n = transpose(inverse(F[s])) * reference_normal_[k];
-    const Real len = std::sqrt(norm2(n));
-    wall_normal_[k] = len > 0 ? (1.0 / len) * n : Vec<D>::zero();
-  }
+void IsphSolver<D>::boundary_pressure_force(bool pairwise, FluidKind target) {
+  parallel_for(exec_, this->size(), BoundaryPressureForce<D>{this->view(), p_.data(), L_structure_.data(), grad_p_.data(),
+                                                             boundary_force_.data(), pairwise, target});
 }
 
 template <int D>
 void IsphSolver<D>::set_structure_acceleration(const std::vector<Vec<D>>& a) {
-  for (Index k = 0; k < size(); ++k) {
-    const Index s = structure_index_[k];
-    if (s < 0) continue;
-    wall_acceleration_[k] = a[s];
-    rhs_[k] = dot(gravity_ - a[s], wall_moment_[k]);  // PpeRowFill::wall_row
-  }
+  Base::set_structure_acceleration(a);
+  for (Index k = 0; k < this->size(); ++k)
+    if (const Index s = structure_index_[k]; s >= 0) rhs_[k] = dot(gravity_ - a[s], wall_moment_[k]);  // PpeRowFill::wall_row
 }
 
 template <int D>
 Vec<D> IsphSolver<D>::structure_pressure_force(std::vector<Vec<D>>& force_density) {
-  const Index n = size();
-  boundary_force_.resize(n);
-  parallel_for(exec_, n, BoundaryPressureForce<D>{view(), p_.data(), L_structure_.data(), grad_p_.data(),
-                                                  boundary_force_.data(), pairwise_force_, FluidKind::structure});
-  Vec<D> total = Vec<D>::zero();
-  for (Index k = 0; k < n; ++k) {
-    const Index s = structure_index_[k];
-    if (s < 0) continue;
-    force_density[s] = boundary_force_[k];
-    total += volume_[k] * boundary_force_[k];
+  boundary_pressure_force(pairwise_force_, FluidKind::structure);
+  return this->gather_structure_force(force_density);
+}
+
+template <int D>
+void IsphSolver<D>::add_snapshot_fields(const std::vector<Index>& slot, std::vector<SnapshotField>& fields) const {
+  const std::size_t n = slot.size();
+  SnapshotField surface{"surface_class", 1, std::vector<double>(n)}, div_r{"div_r", 1, std::vector<double>(n)};
+  SnapshotField shift{"shift", 3, std::vector<double>(3 * n, 0.0)};
+  for (std::size_t k = 0; k < n; ++k) {
+    const Index a = slot[k];
+    surface.data[k] = static_cast<double>(cls_[a]);
+    div_r.data[k] = div_r_[a];
+    for (int d = 0; d < D; ++d) shift.data[3 * k + d] = shift_[a][d];
   }
-  return total;
-}
-
-template <int D>
-InteractionReport<D> IsphSolver<D>::structure_contact() {
-  const Index n = size();
-  inside_.resize(n);
-  structure_distance_.resize(n);
-  parallel_for(exec_, n, StructureContact<D>{view(), inside_.data(), structure_distance_.data()});
-  InteractionReport<D> report;
-  report.min_distance = std::numeric_limits<Real>::infinity();
-  for (Index k = 0; k < n; ++k) {
-    if (kind_[k] != FluidKind::fluid) continue;
-    report.fluid_inside += inside_[k];
-    report.min_distance = std::min(report.min_distance, structure_distance_[k]);
-  }
-  return report;
-}
-
-template <int D>
-Real IsphSolver<D>::kinetic_energy() const {
-  Real e = 0;
-  for (Index a = 0; a < size(); ++a)
-    if (kind_[a] == FluidKind::fluid) e += 0.5 * density_ * volume_[a] * norm2(u_[a]);
-  return e;
-}
-
-template <int D>
-Real IsphSolver<D>::potential_energy() const {
-  Real e = 0;
-  for (Index a = 0; a < size(); ++a)
-    if (kind_[a] == FluidKind::fluid) e -= density_ * volume_[a] * dot(gravity_, x_[a]);
-  return e;
-}
-
-template <int D>
-Real IsphSolver<D>::interpolate_pressure(const Vec<D>& point) const {
-  Real num = 0, den = 0;
-  for (Index b = 0; b < size(); ++b) {
-    const Real w = volume_[b] * kernel_.value(std::sqrt(norm2(period_.delta(point, x_[b]))));
-    num += w * p_[b];
-    den += w;
-  }
-  return den > 0 ? num / den : 0;
-}
-
-template <int D>
-Vec<D> IsphSolver<D>::interpolate_velocity(const Vec<D>& point) const {
-  Vec<D> num = Vec<D>::zero();
-  Real den = 0;
-  for (Index b = 0; b < size(); ++b) {
-    if (kind_[b] != FluidKind::fluid) continue;
-    const Real w = volume_[b] * kernel_.value(std::sqrt(norm2(period_.delta(point, x_[b]))));
-    num += w * u_[b];
-    den += w;
-  }
-  return den > 0 ? (1.0 / den) * num : Vec<D>::zero();
-}
-
-template <int D>
-Real IsphSolver<D>::front(Real height) const {
-  Real best = -std::numeric_limits<Real>::infinity();
-  for (Index a = 0; a < size(); ++a)
-    if (kind_[a] == FluidKind::fluid && x_[a][D - 1] < height) best = std::max(best, x_[a][0]);
-  return best;
-}
-
-template <int D>
-Index IsphSolver<D>::first_non_finite() const {
-  for (Index a = 0; a < size(); ++a)
-    if (!std::isfinite(norm2(x_[a])) || !std::isfinite(norm2(u_[a])) || !std::isfinite(p_[a])) return a;
-  return -1;
+  fields.insert(fields.end(), {surface, div_r, shift});
 }
 
 template class IsphSolver<2>;

@@ -312,19 +312,18 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& s
 // Fluid (ISPH), alone or coupled with structures (ISPH-TLSPH, seed 001 Algorithm 1)
 // ------------------------------------------------------------------------------------------------
 
-// Writes the fields of the fluid, wall and structure particles, in stable-id order; with a coupled
-// structure, its Cauchy stress on the structure particles (zero on the others).
+// Writes the fields of the fluid, wall and structure particles, in stable-id order, with the fluid
+// model's own fields; with a coupled structure, its Cauchy stress on the structure particles (zero on
+// the others).
 template <int D>
-void write_fluid_snapshot(SnapshotWriter& writer, double t, const IsphSolver<D>& solver,
+void write_fluid_snapshot(SnapshotWriter& writer, double t, const FluidParticles<D>& solver,
                           const TlsphSolver<D>* structure) {
   const Index n = solver.size();
   std::vector<Index> slot(n);
   for (Index a = 0; a < n; ++a) slot[solver.id()[a]] = a;
   std::vector<std::array<double, 3>> pos(n);
   SnapshotField vel{"velocity", 3, std::vector<double>(3 * n, 0.0)};
-  SnapshotField shift{"shift", 3, std::vector<double>(3 * n, 0.0)};
   SnapshotField p{"pressure", 1, std::vector<double>(n)}, kind{"kind", 1, std::vector<double>(n)},
-      surface{"surface_class", 1, std::vector<double>(n)}, div_r{"div_r", 1, std::vector<double>(n)},
       id{"id", 1, std::vector<double>(n)};
   SnapshotField sxx{"sigma_xx", 1, std::vector<double>(n, 0.0)}, syy{"sigma_yy", 1, std::vector<double>(n, 0.0)},
       sxy{"sigma_xy", 1, std::vector<double>(n, 0.0)};
@@ -338,21 +337,19 @@ void write_fluid_snapshot(SnapshotWriter& writer, double t, const IsphSolver<D>&
       sxy.data[k] = sigma(0, 1);
     }
     put_vector(vel, k, solver.velocity()[a]);
-    put_vector(shift, k, solver.shift()[a]);
     p.data[k] = solver.pressure()[a];
     kind.data[k] = static_cast<double>(solver.kind()[a]);  // 0 fluid, 1 wall, 2 structure
-    surface.data[k] = static_cast<double>(solver.surface_class()[a]);
-    div_r.data[k] = solver.position_divergence()[a];
     id.data[k] = k;
   }
-  std::vector<SnapshotField> fields{vel, p, kind, surface, div_r, shift, id};
+  std::vector<SnapshotField> fields{vel, p, kind, id};
+  solver.add_snapshot_fields(slot, fields);
   if (structure) fields.insert(fields.end(), {sxx, syy, sxy});
   writer.write(t, pos, fields);
 }
 
 // First fluid particle outside the escape box, or -1.
 template <int D>
-Index find_escape(const IsphSolver<D>& solver, const Scene<D>& scene) {
+Index find_escape(const FluidParticles<D>& solver, const Scene<D>& scene) {
   for (Index a = 0; a < solver.size(); ++a) {
     if (solver.kind()[a] != FluidKind::fluid) continue;
     for (int d = 0; d < D; ++d)
@@ -373,16 +370,25 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   }
   if (scene.has_structure) add_displacement_columns(scene, columns);
   RunFrame frame(spec, opt, columns, D);
-  std::unique_ptr<IsphSolver<D>> solver_ptr;
+  std::unique_ptr<FluidParticles<D>> solver_ptr;
+  IsphSolver<D>* isph = nullptr;    // the model in use: one of these two
+  WcsphSolver<D>* wcsph = nullptr;
   std::unique_ptr<StructureCoupling<D>> coupling;
   timer.time("setup", [&] {
-    solver_ptr = std::make_unique<IsphSolver<D>>(std::move(scene.fluid));
+    if (spec.fluid.model == "wcsph")
+      solver_ptr = std::unique_ptr<FluidParticles<D>>(wcsph = new WcsphSolver<D>(std::move(scene.fluid)));
+    else
+      solver_ptr = std::unique_ptr<FluidParticles<D>>(isph = new IsphSolver<D>(std::move(scene.fluid)));
     if (scene.has_structure)
       coupling = std::make_unique<StructureCoupling<D>>(std::move(scene.structure), spec.coupling, spec.structure.courant,
                                                         gravity_vector<D>(spec.gravity));
   });
-  IsphSolver<D>& solver = *solver_ptr;
+  FluidParticles<D>& solver = *solver_ptr;
   frame.set_output_interval(solver.time_step(), 20);
+  // The weakly compressible model advances a coupled structure at each of its acoustic steps.
+  typename WcsphSolver<D>::AcousticHook structure_hook;
+  if (wcsph && coupling)
+    structure_hook = [&](Real t0, Real h) { coupling->explicit_step(t0, h, *wcsph, timer); };
 
   auto record = [&](Real t) {
     timer.time("output", [&] {
@@ -429,7 +435,13 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
     const Real left = spec.end_time - t;
     if (dt >= left - eps) dt = left;
     else if (2 * dt > left) dt = 0.5 * left;
-    const FluidStepReport report = coupling ? coupling->step(t, dt, solver, timer) : solver.step(dt, timer);
+    FluidStepReport report;
+    if (wcsph) {
+      report = wcsph->step(dt, timer, structure_hook);
+      if (coupling) coupling->record_contact(solver, timer);
+    } else {
+      report = coupling ? coupling->step(t, dt, *isph, timer) : isph->step(dt, timer);
+    }
     ++step;
     t += dt;
     iterations += report.ppe.iterations;
@@ -477,7 +489,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
 
   const double stepping = timer.total() - timer.get("output") - timer.get("setup");
   JsonObject ppe;
-  ppe.set("solver", solver.ppe_solver_name())
+  ppe.set("solver", isph ? isph->ppe_solver_name() : "none")
       .set("mean_iterations", step > 0 ? double(iterations) / step : 0.0)
       .set("max_iterations", max_iterations)
       .set("max_relative_residual", worst_residual)
@@ -487,6 +499,16 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
       .set("mean_fluid_dt", step > 0 ? t / step : 0.0)
       .set("fluid_particle_steps_per_s", stepping > 0 ? double(solver.fluid_count()) * step / stepping : 0.0);
   if (coupling) perf.set("coupling", coupling->summary());
+  if (wcsph) {
+    JsonObject w;
+    w.set("time_stepping", spec.fluid.wcsph.time_stepping)
+        .set("sound_speed", wcsph->sound_speed())
+        .set("advection_steps", wcsph->advection_steps())
+        .set("acoustic_steps", wcsph->acoustic_steps())
+        .set("mean_acoustic_per_advection",
+             wcsph->advection_steps() > 0 ? double(wcsph->acoustic_steps()) / wcsph->advection_steps() : 0.0);
+    perf.set("wcsph", w);
+  }
   frame.finish(D, particle_counts(solver.fluid_count(), solver.wall_count(), coupling ? coupling->solver().size() : 0),
                step, coupling ? coupling->substeps() : 0, t, timer, ppe, perf);
   return frame.result;

@@ -68,6 +68,30 @@ TEST(HydrostaticTank, CoarseStillWater) {
   EXPECT_LT(fastest, 0.01 * std::sqrt(9.81 * 1.0));
 }
 
+// The weakly compressible comparator (fluid.model = "wcsph") in the same tank, with its own tolerances:
+// its pressure comes from the density, so the water column is compressed by g H / c^2 and its
+// particles carry acoustic noise and slow spurious currents. Measured at H/dx = 20 (2026-11-22): the
+// bottom pressure is 1.35 % above rho g H, its standard deviation 0.44 % of rho g H (ISPH: see the test
+// above), the fastest particle 1.05 % of sqrt(g H). Asserted: mean within 2 %, noise below 1 %, the
+// fastest particle below 2 % of sqrt(g H).
+TEST(HydrostaticTank, WeaklyCompressibleStillWater) {
+  const fs::path out = fresh_dir("hydrostatic_wcsph");
+  const auto r = isph("run " + kCases + "hydrostatic_tank.toml --quiet --out " + out.string() +
+                      " --set dx=0.05 --set end_time=2 --set output.snapshots=false --set fluid.model=\"wcsph\"" +
+                      kTankWalls);
+  ASSERT_EQ(r.status, 0) << r.output;
+  auto p = read_csv(out / "probes.csv");
+  const double rho_g_h = 1000 * 9.81 * 1.0;
+  double sd = 0;
+  const double mean = mean_over(p["time"], p["bottom.p"], 1.0, &sd);
+  EXPECT_NEAR(mean, 1000 * 9.81 * (1.0 - 0.001), 0.02 * rho_g_h);
+  EXPECT_LT(sd, 0.01 * rho_g_h);
+  double fastest = 0;
+  for (std::size_t k = 0; k < p["time"].size(); ++k)
+    if (p["time"][k] >= 1.0) fastest = std::max(fastest, p["fastest.u"][k]);
+  EXPECT_LT(fastest, 0.02 * std::sqrt(9.81 * 1.0));
+}
+
 // The same tank holding a viscous liquid (nu = 0.03 m^2/s, so that nu dt / dx^2 is that of sunflower oil
 // at dx = 2 mm): where the free surface meets the walls the renormalised Laplacian of a truncated support
 // can be anti-diffusive, and the liquid must still stay at rest (it blew up within 0.2 s before the
@@ -85,20 +109,15 @@ TEST(HydrostaticTank, ViscousLiquidStaysStillWhereTheSurfaceMeetsTheWalls) {
   EXPECT_NEAR(mean_over(p["time"], p["bottom.p"], 1.0), 1000 * 9.81 * (1.0 - 0.001), 0.01 * 1000 * 9.81);
 }
 
-// Dam break, a/dx = 20 (walls thickened to three layers), to t sqrt(g/a) = 2, before the impact.
-// The surge front Z = x/a against T = t sqrt(2g/a) must lie between the Martin & Moyce experiment
-// (friction and the gate make the experiment the slow bound; 0.1 allowed for its scatter) and
-// Ritter's dry-bed shallow-water front Z = 1 + 2T (the inviscid upper bound), and follow Koshizuka &
-// Oka's MPS simulation of the same set-up (RMSE of Z below 0.2).
-TEST(DamBreak, CoarseSurgeFront) {
-  const fs::path out = fresh_dir("dam_break");
-  const std::string walls =
-      " --set 'bodies.floor.shape={type=\"rectangle\",min=[-0.0219,-0.0219],max=[0.6059,0.0]}'"
-      " --set 'bodies.left_wall.shape={type=\"rectangle\",min=[-0.0219,0.0],max=[0.0,0.584]}'"
-      " --set 'bodies.right_wall.shape={type=\"rectangle\",min=[0.584,0.0],max=[0.6059,0.584]}'";
-  const double a = 0.146, g = 9.81, dx = 0.0073;
+// Dam break to t sqrt(g/a) = 2, before the impact. The surge front Z = x/a against T = t sqrt(2g/a)
+// must lie between the Martin & Moyce experiment (friction and the gate make the experiment the slow
+// bound; 0.1 allowed for its scatter) and Ritter's dry-bed shallow-water front Z = 1 + 2T (the inviscid
+// upper bound), and follow Koshizuka & Oka's MPS simulation of the same set-up (RMSE of Z below 0.2).
+void expect_surge_front(const std::string& name, double dx, const std::string& sets) {
+  const fs::path out = fresh_dir(name);
+  const double a = 0.146, g = 9.81;
   const auto r = isph("run " + kCases + "dam_break.toml --quiet --out " + out.string() + " --set dx=" +
-                      std::to_string(dx) + " --set end_time=0.2441 --set output.snapshots=false" + walls);
+                      std::to_string(dx) + " --set end_time=0.2441 --set output.snapshots=false" + sets);
   ASSERT_EQ(r.status, 0) << r.output;  // completed: no blow-up, no particle escaped
   auto p = read_csv(out / "probes.csv");
   std::vector<double> T, Z;
@@ -124,6 +143,20 @@ TEST(DamBreak, CoarseSurgeFront) {
   }
   ASSERT_GT(n, 5);
   EXPECT_LT(std::sqrt(sum2 / n), 0.2);
+}
+
+// ISPH at a/dx = 20 (walls thickened to three layers).
+TEST(DamBreak, CoarseSurgeFront) {
+  expect_surge_front("dam_break", 0.0073,
+                     " --set 'bodies.floor.shape={type=\"rectangle\",min=[-0.0219,-0.0219],max=[0.6059,0.0]}'"
+                     " --set 'bodies.left_wall.shape={type=\"rectangle\",min=[-0.0219,0.0],max=[0.0,0.584]}'"
+                     " --set 'bodies.right_wall.shape={type=\"rectangle\",min=[0.584,0.0],max=[0.6059,0.584]}'");
+}
+
+// The weakly compressible comparator at a/dx = 40: at a/dx = 20 its front lags the MPS front (RMSE 0.43
+// to t sqrt(g/a) = 2, measured 2026-11-22); at a/dx = 40 it follows it (0.09 over the whole run-out).
+TEST(DamBreak, WeaklyCompressibleSurgeFront) {
+  expect_surge_front("dam_break_wcsph", 0.00365, " --set fluid.model=\"wcsph\"");
 }
 
 // Start-up Couette flow, H/dx = 10, to t = 0.3 s (t nu/H^2 = 0.3): the velocity at mid-height and at a

@@ -1,0 +1,231 @@
+#include "sim/fluid_particles.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "structure/interaction.hpp"
+
+namespace isph {
+
+namespace {
+
+// Sorting particles by cell keeps neighbours close in memory; positions drift, so re-sort this often.
+constexpr long long kSortInterval = 20;
+
+template <class T>
+void permute(std::vector<T>& v, const std::vector<Index>& order) {
+  std::vector<T> copy(v);
+  for (std::size_t k = 0; k < order.size(); ++k) v[k] = copy[order[k]];
+}
+
+}  // namespace
+
+template <int D>
+FluidParticles<D>::FluidParticles(FluidSetup<D>& s)
+    : x_(std::move(s.x)),
+      u_(std::move(s.u)),
+      volume_(std::move(s.volume)),
+      wall_depth_(std::move(s.wall_depth)),
+      kind_(std::move(s.kind)),
+      wall_velocity_(std::move(s.wall_velocity)),
+      wall_normal_(std::move(s.wall_normal)),
+      id_(std::move(s.id)),
+      structure_index_(std::move(s.structure_index)),
+      motion_(std::move(s.motion)),
+      reference_x_(x_),
+      motions_(std::move(s.motions)),
+      density_(s.density),
+      viscosity_(s.viscosity),
+      dx_(s.dx),
+      reference_velocity_(s.reference_velocity),
+      kernel_(s.kernel),
+      period_(s.period),
+      gravity_(s.gravity),
+      settings_(s.settings) {
+  const std::size_t n = x_.size();
+  if (structure_index_.empty()) structure_index_.assign(n, -1);
+  if (motion_.empty()) motion_.assign(n, -1);
+  has_structure_ = std::count(kind_.begin(), kind_.end(), FluidKind::structure) > 0;
+  wall_acceleration_.assign(n, Vec<D>::zero());
+  reference_normal_ = wall_normal_;
+  boundary_force_.assign(n, Vec<D>::zero());
+  p_.assign(n, 0);
+  fluid_count_ = static_cast<Index>(std::count(kind_.begin(), kind_.end(), FluidKind::fluid));
+  wall_count_ = static_cast<Index>(std::count(kind_.begin(), kind_.end(), FluidKind::wall));
+}
+
+template <int D>
+FluidView<D> FluidParticles<D>::view() const {
+  OperatorView<D> op{size(), x_.data(), volume_.data(), neighbours_.offset.data(), neighbours_.index.data(),
+                     kernel_, period_};
+  return {op,       kind_.data(),        wall_velocity_.data(), wall_acceleration_.data(), wall_normal_.data(),
+          wall_depth_.data(), dx_};
+}
+
+template <int D>
+void FluidParticles<D>::find_neighbours() {
+  cells_.build(x_, kernel_.support(), period_);
+  if (neighbour_searches_++ % kSortInterval == 0) {
+    const std::vector<Index> order = cells_.order();
+    permute(x_, order);
+    permute(u_, order);
+    permute(p_, order);
+    permute(volume_, order);
+    permute(wall_depth_, order);
+    permute(kind_, order);
+    permute(wall_velocity_, order);
+    permute(wall_acceleration_, order);
+    permute(wall_normal_, order);
+    permute(reference_normal_, order);
+    permute(id_, order);
+    permute(structure_index_, order);
+    permute(motion_, order);
+    permute(reference_x_, order);
+    permute_work(order);
+    cells_.build(x_, kernel_.support(), period_);
+  }
+  neighbours_ = neighbour_list(cells_, size());
+}
+
+// Moving walls over [t, t + dt]: from x(t) they move by their chord of the step, with the velocity
+// (x(t + dt) - x(t))/dt (what the fluid sees of a structure too, sim/coupling.hpp), the acceleration
+// (v(t + dt) - v(t))/dt, and their normals turned to t + dt.
+template <int D>
+void FluidParticles<D>::prescribe_walls(Real dt) {
+  for (Index a = 0; a < size(); ++a) {
+    if (motion_[a] < 0) continue;
+    const RigidMotion<D>& m = motions_[motion_[a]];
+    const Vec<D>& X = reference_x_[a];
+    const Vec<D> start = m.position(X, time_);
+    x_[a] = period_.wrap(start);
+    u_[a] = wall_velocity_[a] = (1.0 / dt) * (m.position(X, time_ + dt) - start);
+    wall_acceleration_[a] = (1.0 / dt) * (m.velocity(X, time_ + dt) - m.velocity(X, time_));
+    wall_normal_[a] = m.rotation(time_ + dt) * reference_normal_[a];
+  }
+}
+
+template <int D>
+Vec<D> FluidParticles<D>::gather_structure_force(std::vector<Vec<D>>& force_density) const {
+  Vec<D> total = Vec<D>::zero();
+  for (Index k = 0; k < size(); ++k) {
+    const Index s = structure_index_[k];
+    if (s < 0) continue;
+    force_density[s] = boundary_force_[k];
+    total += volume_[k] * boundary_force_[k];
+  }
+  return total;
+}
+
+// Power of the moving walls' pressure force on the fluid, sum_w -V_w f_w · u_w.
+template <int D>
+Real FluidParticles<D>::moving_wall_power() const {
+  Real power = 0;
+  for (Index a = 0; a < size(); ++a)
+    if (motion_[a] >= 0) power -= volume_[a] * dot(boundary_force_[a], wall_velocity_[a]);
+  return power;
+}
+
+template <int D>
+void FluidParticles<D>::move_structure(const std::vector<Vec<D>>& x, const std::vector<Vec<D>>& v,
+                                       const std::vector<Mat<D>>& F) {
+  for (Index k = 0; k < size(); ++k) {
+    const Index s = structure_index_[k];
+    if (s < 0) continue;
+    x_[k] = x[s];
+    u_[k] = wall_velocity_[k] = v[s];
+    const Vec<D> n = transpose(inverse(F[s])) * reference_normal_[k];
+    const Real len = std::sqrt(norm2(n));
+    wall_normal_[k] = len > 0 ? (1.0 / len) * n : Vec<D>::zero();
+  }
+}
+
+template <int D>
+void FluidParticles<D>::set_structure_acceleration(const std::vector<Vec<D>>& a) {
+  for (Index k = 0; k < size(); ++k)
+    if (structure_index_[k] >= 0) wall_acceleration_[k] = a[structure_index_[k]];
+}
+
+template <int D>
+InteractionReport<D> FluidParticles<D>::structure_contact() {
+  const Index n = size();
+  inside_.resize(n);
+  structure_distance_.resize(n);
+  parallel_for(exec_, n, StructureContact<D>{view(), inside_.data(), structure_distance_.data()});
+  InteractionReport<D> report;
+  report.min_distance = std::numeric_limits<Real>::infinity();
+  for (Index k = 0; k < n; ++k) {
+    if (kind_[k] != FluidKind::fluid) continue;
+    report.fluid_inside += inside_[k];
+    report.min_distance = std::min(report.min_distance, structure_distance_[k]);
+  }
+  return report;
+}
+
+template <int D>
+Real FluidParticles<D>::max_speed() const {
+  Real u2 = 0;
+  for (Index a = 0; a < size(); ++a)
+    if (kind_[a] == FluidKind::fluid) u2 = std::max(u2, norm2(u_[a]));
+  return std::sqrt(u2);
+}
+
+template <int D>
+Real FluidParticles<D>::kinetic_energy() const {
+  Real e = 0;
+  for (Index a = 0; a < size(); ++a)
+    if (kind_[a] == FluidKind::fluid) e += 0.5 * density_ * volume_[a] * norm2(u_[a]);
+  return e;
+}
+
+template <int D>
+Real FluidParticles<D>::potential_energy() const {
+  Real e = 0;
+  for (Index a = 0; a < size(); ++a)
+    if (kind_[a] == FluidKind::fluid) e -= density_ * volume_[a] * dot(gravity_, x_[a]);
+  return e;
+}
+
+template <int D>
+Real FluidParticles<D>::interpolate_pressure(const Vec<D>& point) const {
+  Real num = 0, den = 0;
+  for (Index b = 0; b < size(); ++b) {
+    const Real w = volume_[b] * kernel_.value(std::sqrt(norm2(period_.delta(point, x_[b]))));
+    num += w * p_[b];
+    den += w;
+  }
+  return den > 0 ? num / den : 0;
+}
+
+template <int D>
+Vec<D> FluidParticles<D>::interpolate_velocity(const Vec<D>& point) const {
+  Vec<D> num = Vec<D>::zero();
+  Real den = 0;
+  for (Index b = 0; b < size(); ++b) {
+    if (kind_[b] != FluidKind::fluid) continue;
+    const Real w = volume_[b] * kernel_.value(std::sqrt(norm2(period_.delta(point, x_[b]))));
+    num += w * u_[b];
+    den += w;
+  }
+  return den > 0 ? (1.0 / den) * num : Vec<D>::zero();
+}
+
+template <int D>
+Real FluidParticles<D>::front(Real height) const {
+  Real best = -std::numeric_limits<Real>::infinity();
+  for (Index a = 0; a < size(); ++a)
+    if (kind_[a] == FluidKind::fluid && x_[a][D - 1] < height) best = std::max(best, x_[a][0]);
+  return best;
+}
+
+template <int D>
+Index FluidParticles<D>::first_non_finite() const {
+  for (Index a = 0; a < size(); ++a)
+    if (!std::isfinite(norm2(x_[a])) || !std::isfinite(norm2(u_[a])) || !std::isfinite(p_[a])) return a;
+  return -1;
+}
+
+template class FluidParticles<2>;
+template class FluidParticles<3>;
+
+}  // namespace isph

@@ -1,0 +1,146 @@
+#pragma once
+// The particle set of a fluid model: fluid, wall and structure particles with their boundary data,
+// the neighbour search, moving walls, structure particles that follow TLSPH, and the diagnostics that
+// the time loop reads (energies, probes, penetration). The fluid models derive from it and add their
+// own step: the projection ISPH of seed 001 (sim/isph.hpp) and the weakly compressible comparator of
+// seed 002 (sim/wcsph.hpp).
+#include <string>
+#include <vector>
+
+#include "core/neighbour_search.hpp"
+#include "io/case.hpp"
+#include "io/output.hpp"
+#include "kernels/smoothing_kernel.hpp"
+#include "poisson/linear_solver.hpp"
+#include "sim/fluid_view.hpp"
+#include "sim/phase_timer.hpp"
+#include "sim/prescribed_motion.hpp"
+
+namespace isph {
+
+// Everything a fluid model needs, built by build_scene (sim/scene.cpp).
+template <int D>
+struct FluidSetup {
+  std::vector<Vec<D>> x, u;
+  std::vector<Real> volume;
+  std::vector<FluidKind> kind;
+  std::vector<Vec<D>> wall_velocity;  // prescribed velocity (walls), zero for fluid
+  std::vector<Vec<D>> wall_normal;    // walls, structures: unit normal into the fluid (zero when deep inside)
+  std::vector<Real> wall_depth;       // walls, structures: distance below the surface
+  std::vector<Index> structure_index; // structure particles: index in the TLSPH solver; -1 for others
+  std::vector<Index> id;              // stable id (output order)
+  std::vector<Index> motion;          // walls: index in `motions`; -1 for fixed walls and the others
+  std::vector<RigidMotion<D>> motions;  // prescribed motions of wall bodies
+  Real density = 0;
+  Real viscosity = 0;                 // kinematic [m^2/s]
+  Real dx = 0;
+  SmoothingKernel<D> kernel;
+  bool kernel_correction = true;
+  Periodicity<D> period;
+  Vec<D> gravity = Vec<D>::zero();
+  Real reference_velocity = 0;        // floor on U in Eq. 49 (resolved from the case)
+  FluidSpec settings;
+  bool fsi_shifting = true;           // the FSI shifting layer (Eqs. 27-30)
+  std::string interaction_force = "pairwise";  // pairwise | gradient (Eq. 48 literally; structure/interaction.hpp)
+};
+
+// Penetration diagnostics of a coupled step (structure/interaction.hpp).
+template <int D>
+struct InteractionReport {
+  Index fluid_inside = 0;                // fluid particles inside a structure
+  Real min_distance = 0;                 // smallest fluid-structure particle distance (inf: none in reach)
+};
+
+struct FluidStepReport {
+  SolveReport ppe;
+  std::string ppe_solver;  // the backend that produced the pressure ("none" for a weakly compressible fluid)
+  bool ppe_failed = false; // no backend converged
+};
+
+template <int D>
+class FluidParticles {
+ public:
+  explicit FluidParticles(FluidSetup<D>& setup);
+  virtual ~FluidParticles() = default;
+
+  // The largest stable step of the model at the current state.
+  virtual Real time_step() const = 0;
+  // The model's own fields for snapshots (in stable-id order: field value k belongs to particle slot[k]).
+  virtual void add_snapshot_fields(const std::vector<Index>& slot, std::vector<SnapshotField>& fields) const = 0;
+
+  Index size() const { return static_cast<Index>(x_.size()); }
+  Index fluid_count() const { return fluid_count_; }
+  Index wall_count() const { return wall_count_; }
+  const std::vector<Vec<D>>& position() const { return x_; }
+  const std::vector<Vec<D>>& velocity() const { return u_; }
+  const std::vector<Real>& pressure() const { return p_; }
+  const std::vector<FluidKind>& kind() const { return kind_; }
+  const std::vector<Index>& id() const { return id_; }
+  const std::vector<Index>& structure_index() const { return structure_index_; }  // -1: not a structure particle
+  Real time() const { return time_; }
+  // Work done on the fluid by the moving walls' pressure, integrated over the steps (their viscous
+  // traction is not counted).
+  Real wall_work() const { return wall_work_; }
+
+  Real kinetic_energy() const;
+  Real potential_energy() const;  // -sum m g · x
+  Real max_speed() const;         // fastest fluid particle
+  // Shepard (kernel-normalised) interpolation at a point: pressure over fluid and wall particles,
+  // velocity over fluid particles. Zero where no particle is in reach.
+  Real interpolate_pressure(const Vec<D>& point) const;
+  Vec<D> interpolate_velocity(const Vec<D>& point) const;
+  // Largest x of the fluid particles below `height` on the vertical axis (D - 1); -inf if none.
+  Real front(Real height) const;
+  // First particle with a non-finite position, velocity or pressure, or -1.
+  Index first_non_finite() const;
+
+  // Structure particles follow the TLSPH solver: positions, velocities and deformation gradients,
+  // indexed as in the TLSPH solver. The surface normals turn with F: n = F^{-T} N / |F^{-T} N|.
+  void move_structure(const std::vector<Vec<D>>& x, const std::vector<Vec<D>>& v, const std::vector<Mat<D>>& F);
+  // The structure's acceleration over the current step (a_s, what the boundary pressure of structure
+  // particles balances), indexed as in the TLSPH solver.
+  virtual void set_structure_acceleration(const std::vector<Vec<D>>& a);
+  // Fluid particles inside a structure, and the smallest fluid-structure particle distance (inf if none
+  // is within the kernel support).
+  InteractionReport<D> structure_contact();
+
+ protected:
+  FluidView<D> view() const;
+  // Cell list and CSR neighbour list at the current positions; every kSortInterval calls the particles
+  // are first re-sorted by cell (with permute_work for the model's own per-particle arrays).
+  void find_neighbours();
+  virtual void permute_work(const std::vector<Index>& order) = 0;
+  // Moving walls over [t, t + dt] (t = time_).
+  void prescribe_walls(Real dt);
+  // From the boundary force per unit volume (boundary_force_, filled by the model): the force density
+  // on the structure particles indexed as in TLSPH, and its sum; the power of the moving walls on the fluid.
+  Vec<D> gather_structure_force(std::vector<Vec<D>>& force_density) const;
+  Real moving_wall_power() const;
+
+  // particle state (permuted together by find_neighbours)
+  std::vector<Vec<D>> x_, u_;
+  std::vector<Real> p_, volume_, wall_depth_;
+  std::vector<FluidKind> kind_;
+  std::vector<Vec<D>> wall_velocity_, wall_acceleration_, wall_normal_, reference_normal_;
+  std::vector<Index> id_, structure_index_, motion_;
+  std::vector<Vec<D>> reference_x_;  // initial positions (moving walls follow their motion from them)
+  std::vector<Vec<D>> boundary_force_;  // pressure force per unit volume on wall and structure particles
+  std::vector<unsigned char> inside_;
+  std::vector<Real> structure_distance_;
+  CellList<D> cells_;
+  NeighbourList neighbours_;
+
+  Index fluid_count_ = 0, wall_count_ = 0;
+  long long neighbour_searches_ = 0;
+  Real time_ = 0, wall_work_ = 0;
+  std::vector<RigidMotion<D>> motions_;
+  Real density_, viscosity_, dx_, reference_velocity_;
+  SmoothingKernel<D> kernel_;
+  Periodicity<D> period_;
+  Vec<D> gravity_;
+  FluidSpec settings_;
+  bool has_structure_;
+  Exec exec_{};
+};
+
+}  // namespace isph

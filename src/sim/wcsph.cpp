@@ -1,0 +1,211 @@
+#include "sim/wcsph.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "sim/fluid_functors.hpp"
+#include "sim/wcsph_functors.hpp"
+
+namespace isph {
+
+namespace {
+
+template <class T>
+void permute(std::vector<T>& v, const std::vector<Index>& order) {
+  std::vector<T> copy(v);
+  for (std::size_t k = 0; k < order.size(); ++k) v[k] = copy[order[k]];
+}
+
+// Sum of W(|r|) over a full lattice of spacing dx around a point of it (the point included).
+template <int D>
+Real lattice_kernel_sum(const SmoothingKernel<D>& kernel, Real dx) {
+  const int reach = static_cast<int>(std::ceil(kernel.support() / dx));
+  int index[D];
+  for (int d = 0; d < D; ++d) index[d] = -reach;
+  Real sum = 0;
+  while (true) {
+    Real r2 = 0;
+    for (int d = 0; d < D; ++d) r2 += (index[d] * dx) * (index[d] * dx);
+    sum += kernel.value(std::sqrt(r2));
+    int d = 0;
+    while (d < D && ++index[d] > reach) index[d++] = -reach;
+    if (d == D) break;
+  }
+  return sum;
+}
+
+}  // namespace
+
+template <int D>
+WcsphSolver<D>::WcsphSolver(FluidSetup<D> s)
+    : Base(s),
+      advection_courant_(s.settings.wcsph.advection_courant),
+      acoustic_courant_(s.settings.wcsph.acoustic_courant),
+      limiter_(s.settings.wcsph.riemann_limiter),
+      dual_(s.settings.wcsph.time_stepping == "dual_criteria"),
+      kernel_correction_(s.kernel_correction) {
+  const Index n = this->size();
+  sound_speed_ = s.settings.wcsph.sound_speed > 0 ? s.settings.wcsph.sound_speed
+                                                  : 10 * std::sqrt(2.0) * reference_velocity_;
+  self_weight_ = kernel_.value(0);
+  full_sum_ = lattice_kernel_sum(kernel_, s.dx);
+  rho_.assign(n, density_);
+  drho_dt_.assign(n, 0);
+  acceleration_.assign(n, Vec<D>::zero());
+  viscous_.assign(n, Vec<D>::zero());
+  L_.assign(n, Mat<D>::identity());
+  Bhat_.assign(n, Mat<D>::identity());
+  grad_u_.assign(n, Mat<D>::zero());
+
+  // The fluid starts in hydrostatic equilibrium below the highest fluid particle of its column (the
+  // lattice column through it, along gravity), p = rho0 |g| depth, rho from Eq. 2.
+  const Real g_norm = std::sqrt(norm2(gravity_));
+  if (g_norm > 0) {
+    const Vec<D> up = (-1.0 / g_norm) * gravity_;
+    auto column = [&](const Vec<D>& x) {
+      std::array<long, D> key{};
+      const Vec<D> across = x - dot(x, up) * up;
+      for (int d = 0; d < D; ++d) key[d] = std::lround(across[d] / s.dx);
+      return key;
+    };
+    std::map<std::array<long, D>, Real> top;
+    for (Index a = 0; a < n; ++a) {
+      if (kind_[a] != FluidKind::fluid) continue;
+      auto [it, added] = top.emplace(column(x_[a]), dot(x_[a], up));
+      if (!added) it->second = std::max(it->second, dot(x_[a], up));
+    }
+    for (Index a = 0; a < n; ++a) {
+      if (kind_[a] != FluidKind::fluid) continue;
+      const Real depth = top[column(x_[a])] + 0.5 * s.dx - dot(x_[a], up);
+      p_[a] = density_ * g_norm * depth;
+      rho_[a] = density_ + p_[a] / (sound_speed_ * sound_speed_);
+    }
+  }
+}
+
+template <int D>
+void WcsphSolver<D>::permute_work(const std::vector<Index>& order) {
+  permute(rho_, order);
+  permute(acceleration_, order);
+  permute(viscous_, order);
+}
+
+template <int D>
+Real WcsphSolver<D>::time_step() const {
+  const Real h = kernel_.h;
+  const Real u = std::max(this->max_speed(), reference_velocity_);
+  const Real acoustic = acoustic_courant_ * h / (sound_speed_ + u);  // Eq. 10
+  Real dt = dual_ ? advection_courant_ * h / u : acoustic;            // Eq. 9
+  if (viscosity_ > 0) dt = std::min(dt, advection_courant_ * h * h / viscosity_);
+  if (settings_.max_dt > 0) dt = std::min(dt, settings_.max_dt);
+  return dt;
+}
+
+template <int D>
+FluidStepReport WcsphSolver<D>::step(Real dt, PhaseTimer& timer, const AcousticHook& hook) {
+  configure(dt, timer);
+  const Real u = std::max(this->max_speed(), reference_velocity_);
+  const Real acoustic = acoustic_courant_ * kernel_.h / (sound_speed_ + u);
+  const long long count = dual_ ? std::max(1LL, static_cast<long long>(std::ceil(dt / acoustic - 1e-9))) : 1;
+  const Real h = dt / static_cast<Real>(count);
+  const Real t0 = time_;
+  for (long long k = 0; k < count; ++k) {
+    time_ = t0 + k * h;
+    acoustic_step(h, timer, hook);
+  }
+  time_ = t0 + dt;
+  ++advection_steps_;
+  FluidStepReport report;
+  report.ppe_solver = "none";
+  return report;
+}
+
+template <int D>
+void WcsphSolver<D>::configure(Real dt, PhaseTimer& timer) {
+  const Index n = this->size();
+  if (!motions_.empty()) timer.time("wall_motion", [&] { this->prescribe_walls(dt); });
+  timer.time("neighbours", [&] {
+    this->find_neighbours();
+  });
+  const FluidView<D> v = this->view();
+  if (dual_)
+    timer.time("density", [&] {
+      parallel_for(exec_, n, DensityReinitialisation<D>{v, density_, self_weight_, full_sum_,
+                                                        settings_.free_surface, rho_.data()});
+      const Real c2 = sound_speed_ * sound_speed_;
+      for (Index a = 0; a < n; ++a)
+        if (kind_[a] == FluidKind::fluid) p_[a] = c2 * (rho_[a] - density_);  // Eq. 2
+      forces_current_ = false;
+    });
+  if (viscosity_ > 0)
+    timer.time("viscosity", [&] {
+      if (kernel_correction_) {
+        parallel_for(exec_, n, GradientCorrection<D>{v.op, L_.data()});
+        parallel_for(exec_, n, LaplacianRenormalisation<D>{v.op, L_.data(), Bhat_.data()});
+      }
+      parallel_for(exec_, n, VelocityGradient<D>{v, L_.data(), u_.data(), true, 0.0, grad_u_.data(), nullptr});
+      parallel_for(exec_, n, ViscousAcceleration<D>{v, Bhat_.data(), grad_u_.data(), u_.data(), nullptr, viscosity_,
+                                                    viscous_.data()});
+    });
+  if (!forces_current_) timer.time("pressure_force", [&] { evaluate_forces(); });
+}
+
+template <int D>
+void WcsphSolver<D>::evaluate_forces() {
+  const Index n = this->size();
+  const FluidView<D> v = this->view();
+  parallel_for(exec_, n, BoundaryPressure<D>{v, gravity_, density_, sound_speed_, p_.data(), rho_.data()});
+  // One array for both results: the fluid's pressure acceleration and the boundary's force density.
+  parallel_for(exec_, n, RiemannInteraction<D>{v, u_.data(), rho_.data(), p_.data(), density_,
+                                               sound_speed_, limiter_, nullptr, acceleration_.data()});
+  for (Index a = 0; a < n; ++a)
+    if (kind_[a] != FluidKind::fluid) boundary_force_[a] = acceleration_[a];
+  forces_current_ = true;
+}
+
+template <int D>
+void WcsphSolver<D>::acoustic_step(Real dt, PhaseTimer& timer, const AcousticHook& hook) {
+  const Index n = this->size();
+  auto kick = [&] {  // v += dt/2 (a_p + a_visc + g), Eqs. 13 and 15
+    for (Index a = 0; a < n; ++a)
+      if (kind_[a] == FluidKind::fluid) u_[a] += (0.5 * dt) * (acceleration_[a] + viscous_[a] + gravity_);
+  };
+  timer.time("integration", kick);
+  if (hook) hook(time_, dt);
+  timer.time("integration", [&] {  // Eq. 14, positions (walls along their prescribed chord)
+    for (Index a = 0; a < n; ++a) {
+      if (kind_[a] == FluidKind::fluid)
+        x_[a] = period_.wrap(x_[a] + dt * u_[a]);
+      else if (kind_[a] == FluidKind::wall)
+        x_[a] = period_.wrap(x_[a] + dt * wall_velocity_[a]);
+    }
+  });
+  timer.time("density", [&] {  // Eq. 14, density; Eq. 2
+    const FluidView<D> v = this->view();
+    parallel_for(exec_, n, RiemannInteraction<D>{v, u_.data(), rho_.data(), p_.data(), density_,
+                                                 sound_speed_, limiter_, drho_dt_.data(), nullptr});
+    const Real c2 = sound_speed_ * sound_speed_;
+    for (Index a = 0; a < n; ++a) {
+      if (kind_[a] != FluidKind::fluid) continue;
+      rho_[a] += dt * drho_dt_[a];
+      p_[a] = c2 * (rho_[a] - density_);
+    }
+  });
+  timer.time("pressure_force", [&] { evaluate_forces(); });
+  timer.time("integration", kick);
+  if (!motions_.empty()) wall_work_ += dt * this->moving_wall_power();
+  ++acoustic_steps_;
+}
+
+template <int D>
+void WcsphSolver<D>::add_snapshot_fields(const std::vector<Index>& slot, std::vector<SnapshotField>& fields) const {
+  SnapshotField density{"density", 1, std::vector<double>(slot.size())};
+  for (std::size_t k = 0; k < slot.size(); ++k) density.data[k] = rho_[slot[k]];
+  fields.push_back(density);
+}
+
+template class WcsphSolver<2>;
+template class WcsphSolver<3>;
+
+}  // namespace isph

@@ -1,0 +1,84 @@
+#pragma once
+// The weakly compressible comparator (seed 002, Zhang, Rezavand & Hu 2021): the same particles, walls,
+// viscosity operator, probes and structure coupling as the ISPH model, with the pressure from an
+// equation of state instead of a Poisson equation.
+//
+//   equation of state   p = c^2 (rho - rho0)                                              (Eq. 2)
+//   continuity, momentum with a low-dissipation Riemann solver between particles      (Eqs. 3-4, 6)
+//   viscosity           the ISPH model's renormalised Laplacian (ViscousAcceleration), held over an
+//                       advection step (seed 002 §2.2 computes the viscous force there too)
+//   walls, structures   pressure extrapolated from the fluid (Adami et al. 2012; wcsph_functors.hpp)
+//
+// Time stepping (seed 002 §2.2), selected by fluid.wcsph.time_stepping:
+//   dual_criteria:    an advection step dt_ad = CFL_ad min(h/U, h^2/nu) (Eq. 9) rebuilds the neighbour
+//                     list and the kernel values, reinitialises the density (Eqs. 11-12) and computes the
+//                     viscous force; inside it, n = ceil(dt_ad/dt_ac) acoustic steps of equal length,
+//                     dt_ac <= CFL_ac h/(c + U) (Eq. 10, CFL_ac = 0.6), reuse them;
+//   single_criterion: the conventional scheme: every step is an acoustic step with CFL_ac = 0.25 that
+//                     rebuilds the neighbour list, without density reinitialisation.
+// U is the fastest fluid particle, at least the reference velocity (as in the ISPH model's Eq. 49), and
+// c = fluid.wcsph.sound_speed, by default 10 U_max with U_max = 2 sqrt(g H) (seed 002 §3.1), i.e.
+// sqrt(2) times the reference velocity sqrt(2 g H).
+//
+// Each acoustic step is a velocity-Verlet step (Eqs. 13-15) that evaluates the pressure force once:
+//   v^{n+1/2} = v^n + dt/2 a^n;  r^{n+1} = r^n + dt v^{n+1/2};  rho^{n+1} = rho^n + dt drho/dt(v^{n+1/2});
+//   boundary pressure; a^{n+1} = a(rho^{n+1}, v^{n+1/2});  v^{n+1} = v^{n+1/2} + dt/2 a^{n+1}.
+// A coupled structure advances over each acoustic step under the pressure force of the step's start
+// (an explicit, staggered coupling: the fluid's compressibility keeps it stable at these small steps).
+#include <functional>
+#include <vector>
+
+#include "sim/fluid_particles.hpp"
+
+namespace isph {
+
+template <int D>
+class WcsphSolver : public FluidParticles<D> {
+  using Base = FluidParticles<D>;
+
+ public:
+  explicit WcsphSolver(FluidSetup<D> setup);
+
+  // One advection step (dual criteria) or one acoustic step (single criterion).
+  Real time_step() const override;
+  // Density.
+  void add_snapshot_fields(const std::vector<Index>& slot, std::vector<SnapshotField>& fields) const override;
+
+  // Called for every acoustic step [t, t + dt] before the fluid moves: a coupled structure advances and
+  // hands its motion to the fluid (move_structure, set_structure_acceleration).
+  using AcousticHook = std::function<void(Real t, Real dt)>;
+  // Advances by dt (a time_step() or less).
+  FluidStepReport step(Real dt, PhaseTimer& timer, const AcousticHook& hook = {});
+
+  // The pressure force per unit volume on the structure particles at the last force evaluation,
+  // indexed as in the TLSPH solver, and its sum.
+  Vec<D> structure_pressure_force(std::vector<Vec<D>>& force_density) const {
+    return this->gather_structure_force(force_density);
+  }
+
+  Real sound_speed() const { return sound_speed_; }
+  bool dual_criteria() const { return dual_; }
+  long long advection_steps() const { return advection_steps_; }
+  long long acoustic_steps() const { return acoustic_steps_; }
+
+ private:
+  using Base::x_, Base::u_, Base::p_, Base::volume_, Base::kind_, Base::wall_velocity_, Base::boundary_force_,
+      Base::neighbours_, Base::motions_, Base::time_, Base::wall_work_, Base::density_, Base::viscosity_,
+      Base::kernel_, Base::period_, Base::gravity_, Base::settings_, Base::exec_, Base::reference_velocity_;
+  void permute_work(const std::vector<Index>& order) override;
+  // Neighbours, kernel cache, density reinitialisation (dual criteria) and the viscous force.
+  void configure(Real dt, PhaseTimer& timer);
+  // Boundary pressure, then the pressure force on every particle (acceleration_, boundary_force_).
+  void evaluate_forces();
+  void acoustic_step(Real dt, PhaseTimer& timer, const AcousticHook& hook);
+
+  std::vector<Real> rho_, drho_dt_;
+  std::vector<Vec<D>> acceleration_, viscous_;  // pressure acceleration (a^n of Verlet), viscous acceleration
+  std::vector<Mat<D>> L_, Bhat_, grad_u_;
+  Real sound_speed_, self_weight_, full_sum_;
+  Real advection_courant_, acoustic_courant_, limiter_;
+  bool dual_, kernel_correction_, forces_current_ = false;
+  long long advection_steps_ = 0, acoustic_steps_ = 0;
+};
+
+}  // namespace isph
