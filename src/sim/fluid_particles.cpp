@@ -13,12 +13,6 @@ namespace {
 // Sorting particles by cell keeps neighbours close in memory; positions drift, so re-sort this often.
 constexpr long long kSortInterval = 20;
 
-template <class T>
-void permute(std::vector<T>& v, const std::vector<Index>& order) {
-  std::vector<T> copy(v);
-  for (std::size_t k = 0; k < order.size(); ++k) v[k] = copy[order[k]];
-}
-
 }  // namespace
 
 template <int D>

@@ -18,6 +18,13 @@
 
 namespace isph {
 
+// v[k] = v_old[order[k]]: per-particle data follows a re-sort of the particles.
+template <class T>
+void permute(std::vector<T>& v, const std::vector<Index>& order) {
+  std::vector<T> copy(v);
+  for (std::size_t k = 0; k < order.size(); ++k) v[k] = copy[order[k]];
+}
+
 // Everything a fluid model needs, built by build_scene (sim/scene.cpp).
 template <int D>
 struct FluidSetup {

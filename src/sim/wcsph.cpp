@@ -11,12 +11,6 @@ namespace isph {
 
 namespace {
 
-template <class T>
-void permute(std::vector<T>& v, const std::vector<Index>& order) {
-  std::vector<T> copy(v);
-  for (std::size_t k = 0; k < order.size(); ++k) v[k] = copy[order[k]];
-}
-
 // Sum of W(|r|) over a full lattice of spacing dx around a point of it (the point included).
 template <int D>
 Real lattice_kernel_sum(const SmoothingKernel<D>& kernel, Real dx) {
