@@ -48,9 +48,12 @@ struct BoundaryPressureForce {
   }
 };
 
-// Fluid particles beside a structure: whether the particle lies inside the structure (beyond the
-// surface of its nearest structure neighbour: (x_a - x_s) · n_s < d_s) and its distance to the
-// nearest structure particle (or a large value).
+// Fluid particles beside a structure: whether the particle lies inside the structure, and its distance
+// to the nearest structure particle (or a large value). Inside means behind the surface of every
+// surface particle of the structure within 1.5 dx ((x_a - x_s) · n_s < d_s, with at least one such
+// particle): one particle's surface is not enough, because at a corner the nearest particle's normal
+// belongs to one face, and a fluid particle a full dx above the other face lies behind it (the gate's
+// corners counted 2-6 such particles from t = 0).
 template <int D>
 struct StructureContact {
   FluidView<D> v;
@@ -64,7 +67,15 @@ struct StructureContact {
     const Index nearest = v.nearest_neighbour(a, [&](Index b) { return v.is_structure(b); }, r2);
     if (nearest < 0) return;
     distance[a] = sqrt(r2);
-    if (norm2(v.wall_normal[nearest]) > 0 && v.beyond_surface(a, nearest) < 0) inside[a] = 1;
+    const Real reach2 = 2.25 * v.dx * v.dx;
+    bool behind_all = true, any = false;
+    for (Index k = v.op.nbr_offset[a]; k < v.op.nbr_offset[a + 1]; ++k) {
+      const Index s = v.op.nbr[k];
+      if (!v.is_structure(s) || !(norm2(v.wall_normal[s]) > 0) || norm2(v.op.r(a, s)) > reach2) continue;
+      any = true;
+      behind_all = behind_all && v.beyond_surface(a, s) < 0;
+    }
+    inside[a] = any && behind_all;
   }
 };
 
