@@ -99,8 +99,11 @@ def oscillating_plate(run, reference):
 def surge_front_rmse(run, reference):
     """Dam-break surge front Z = (front.x + dx/2)/a against T = t sqrt(2g/a) (fluid_report.py), RMSE over
     the reference points with Z <= 3.8 that the run reached, for each table of dam_break_2d/pysph.
-    error = the mean of the RMSEs against the three experiments (Martin & Moyce a = 1.125 in and 2.25 in,
-    Koshizuka & Oka); the MPS curve is reported beside them."""
+    error = the RMSE against Koshizuka & Oka's MPS simulation of the same set-up: a converged
+    incompressible solution, which both fluid models approach as dx shrinks. The experiments (Martin &
+    Moyce a = 1.125 in and 2.25 in, Koshizuka & Oka) are reported beside it with their mean: their front
+    is slower (the gate's opening and the floor's friction), so a coarse run that lags can sit closer to
+    them than a converged one."""
     d = read_probes(run)
     dx = resolved_case(run)["dx"]
     T = d["time"] * math.sqrt(2 * fr.G / fr.DB_A)
@@ -108,7 +111,8 @@ def surge_front_rmse(run, reference):
     keys = {label: key for key, label, _ in fr.DB_REFERENCES}
     out = {f"rmse_{keys[label]}": cr.rmse_against(T, Z, ref[ref[:, 1] <= SURGE_Z_MAX])
            for label, _, ref in fr.dam_break_references(SimpleNamespace(reference=reference))}
-    return {"error": mean_of(out, (f"rmse_{k}" for k in SURGE_EXPERIMENTS)), **out}
+    return {"error": out["rmse_ko_mps_data"],
+            "rmse_experiments": mean_of(out, (f"rmse_{k}" for k in SURGE_EXPERIMENTS)), **out}
 
 
 def gate_tip_rmse(run, reference):
