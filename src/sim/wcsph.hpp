@@ -11,9 +11,12 @@
 //
 // Time stepping (seed 002 §2.2), selected by fluid.wcsph.time_stepping:
 //   dual_criteria:    an advection step dt_ad = CFL_ad min(h/U, h^2/nu) (Eq. 9) rebuilds the neighbour
-//                     list and the kernel values, reinitialises the density (Eqs. 11-12) and computes the
-//                     viscous force; inside it, n = ceil(dt_ad/dt_ac) acoustic steps of equal length,
-//                     dt_ac <= CFL_ac h/(c + U) (Eq. 10, CFL_ac = 0.6), reuse them;
+//                     list, reinitialises the density (Eqs. 11-12) and computes the viscous force; inside
+//                     it, n = ceil(dt_ad/dt_ac) acoustic steps of equal length, dt_ac <= CFL_ac h/(c + U)
+//                     (Eq. 10, CFL_ac = 0.6), reuse the list. The kernel values are evaluated at the
+//                     current positions in every acoustic step: frozen with the list (as the seed keeps
+//                     its "particle-interaction configuration"), they gave displaced particles no
+//                     restoring force, and still water grew currents of 0.6 m/s within 1 s (measured);
 //   single_criterion: the conventional scheme: every step is an acoustic step with CFL_ac = 0.25 that
 //                     rebuilds the neighbour list, without density reinitialisation.
 // U is the fastest fluid particle, at least the reference velocity (as in the ISPH model's Eq. 49), and
@@ -57,7 +60,6 @@ class WcsphSolver : public FluidParticles<D> {
   }
 
   Real sound_speed() const { return sound_speed_; }
-  bool dual_criteria() const { return dual_; }
   long long advection_steps() const { return advection_steps_; }
   long long acoustic_steps() const { return acoustic_steps_; }
 
