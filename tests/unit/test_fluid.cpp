@@ -13,6 +13,7 @@
 #include "poisson/ppe_assembly.hpp"
 #include "sim/fluid_functors.hpp"
 #include "sim/scene.hpp"
+#include "sim/wcsph.hpp"
 
 using namespace isph;
 
@@ -302,4 +303,29 @@ TEST(FsiShiftingLayer, ShortensTheNormalShiftByTheExponentialLaw) {
   // regular particles: about C^2 R_n^2 |dr_n| is kept
   const double dr_n = s.coefficient * s.zeta * 0.5;
   EXPECT_NEAR((dr_n + s.fsi_relocation(dr_n, 0.5)) / dr_n, s.coefficient * s.coefficient * 0.25, 1e-3);
+}
+
+// The weakly compressible model (sim/wcsph.hpp) starts the still tank in hydrostatic equilibrium, and
+// its boundary pressure (Adami et al. 2012) extends that field into the walls: for a linear pressure
+// p_f = rho0 g (H - y_f) the Shepard-weighted extrapolation p_w = sum W (p_f + rho_f g (y_f - y_w)) / sum W
+// is rho0 g (H - y_w) up to the weak compression rho_f - rho0 = p_f/c^2 (0.25 % here). Then the water
+// stays still: after 0.2 s no particle is faster than 1 % of sqrt(g H).
+TEST(WeaklyCompressible, StillTankStartsHydrostaticAndStaysStill) {
+  const double depth = 1.0;
+  const CaseSpec spec = load_text(tank_case(1.0, depth, 20, 0.2, "[fluid]\nmodel = \"wcsph\"\n"));
+  Scene<2> scene = build_scene<2>(spec);
+  WcsphSolver<2> solver(std::move(scene.fluid));
+  PhaseTimer timer;
+  solver.step(1e-6, timer);
+  const Real rho_g_h = 1000 * 9.81 * depth;
+  int floor_particles = 0;
+  for (Index a = 0; a < solver.size(); ++a) {
+    const Vec<2> x = solver.position()[a];
+    if (solver.kind()[a] != FluidKind::wall || x[1] > 0 || x[0] < 0.2 || x[0] > 0.8 || x[1] < -0.05) continue;
+    EXPECT_NEAR(solver.pressure()[a], 1000 * 9.81 * (depth - x[1]), 0.005 * rho_g_h) << "at (" << x[0] << ", " << x[1] << ")";
+    ++floor_particles;
+  }
+  EXPECT_GT(floor_particles, 10);
+  while (solver.time() < 0.2) solver.step(solver.time_step(), timer);
+  EXPECT_LT(solver.max_speed(), 0.01 * std::sqrt(9.81 * depth));
 }
