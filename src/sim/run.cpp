@@ -448,7 +448,11 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
     worst_residual = std::max(worst_residual, report.ppe.relative_residual);
     max_iterations = std::max<long long>(max_iterations, report.ppe.iterations);
     char buf[512];
-    if (report.ppe_failed) {
+    // A structure that ran away inside the step's substeps poisons the PPE's right-hand side: name it first.
+    const Index bad_s = coupling ? find_divergence(coupling->solver(), 10 * scene.body_extent) : -1;
+    if (bad_s >= 0) {
+      frame.diverge(structure_divergence_message(scene, bad_s, t, step));
+    } else if (report.ppe_failed) {
       ++failures;
       std::snprintf(buf, sizeof buf,
                     "the pressure Poisson equation was not solved at t = %.6g s (step %lld): %s after %d iterations, "
@@ -468,9 +472,6 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
                     "reached %.4g m/s",
                     dt, dt / first_dt, t, step, solver.max_speed());
       frame.diverge(buf);
-    } else if (const Index bad_s = coupling ? find_divergence(coupling->solver(), 10 * scene.body_extent) : -1;
-               bad_s >= 0) {
-      frame.diverge(structure_divergence_message(scene, bad_s, t, step));
     } else if (const Index out = find_escape(solver, scene); out >= 0) {
       std::snprintf(buf, sizeof buf, "fluid particle id %d escaped the tank at t = %.6g s (step %lld), at (%g, %g)",
                     solver.id()[out], t, step, solver.position()[out][0], solver.position()[out][1]);
