@@ -63,15 +63,14 @@ struct StructureContact {
     inside[a] = 0;
     distance[a] = 1e300;
     if (!v.is_fluid(a)) return;
-    Real r2;
-    const Index nearest = v.nearest_neighbour(a, [&](Index b) { return v.is_structure(b); }, r2);
-    if (nearest < 0) return;
-    distance[a] = sqrt(r2);
     const Real reach2 = 2.25 * v.dx * v.dx;
     bool behind_all = true, any = false;
     for (Index k = v.op.nbr_offset[a]; k < v.op.nbr_offset[a + 1]; ++k) {
       const Index s = v.op.nbr[k];
-      if (!v.is_structure(s) || !(norm2(v.wall_normal[s]) > 0) || norm2(v.op.r(a, s)) > reach2) continue;
+      if (!v.is_structure(s)) continue;
+      const Real r2 = norm2(v.op.r(a, s));
+      distance[a] = fmin(distance[a], sqrt(r2));
+      if (!(norm2(v.wall_normal[s]) > 0) || r2 > reach2) continue;
       any = true;
       behind_all = behind_all && v.beyond_surface(a, s) < 0;
     }

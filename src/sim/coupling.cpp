@@ -121,8 +121,7 @@ FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid
     if (report.ppe_failed) return report;
     timer.time("interaction", [&] {
       force = fluid.structure_pressure_force(force_density_);
-      for (Index a = 0; a < n; ++a) interaction_[a] = (1.0 / density_[a]) * force_density_[a];  // Eq. 48
-      solver_.set_interaction(interaction_);
+      set_interaction();
     });
     timer.time("structure", [&] {
       if (iteration > 1) solver_.restore_state();
@@ -150,13 +149,7 @@ FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid
     v_mean_.swap(v_new_);
   });
   record_contact(fluid, timer);
-  interaction_work_ += work;
-  force_sum_ += force;
-  substeps_ += count;
-  max_substeps_ = std::max(max_substeps_, count);
-  iterations_ += iteration;
-  max_iterations_seen_ = std::max(max_iterations_seen_, iteration);
-  ++steps_;
+  account_step(work, force, count, iteration);
   return report;
 }
 
@@ -166,8 +159,7 @@ void StructureCoupling<D>::explicit_step(Real t, Real dt, WcsphSolver<D>& fluid,
   Vec<D> force = Vec<D>::zero();
   timer.time("interaction", [&] {
     force = fluid.structure_pressure_force(force_density_);
-    for (Index a = 0; a < n; ++a) interaction_[a] = (1.0 / density_[a]) * force_density_[a];  // Eq. 48
-    solver_.set_interaction(interaction_);
+    set_interaction();
   });
   Real work = 0;
   int count = 0;
@@ -178,12 +170,23 @@ void StructureCoupling<D>::explicit_step(Real t, Real dt, WcsphSolver<D>& fluid,
     for (Index a = 0; a < n; ++a) v_new_[a] = (1.0 / dt) * (solver_.position()[a] - x_old_[a]);
     fluid.move_structure(solver_.position(), v_new_, solver_.deformation_gradient());
   });
+  account_step(work, force, count, 1);
+}
+
+template <int D>
+void StructureCoupling<D>::set_interaction() {
+  for (std::size_t a = 0; a < interaction_.size(); ++a) interaction_[a] = (1.0 / density_[a]) * force_density_[a];  // Eq. 48
+  solver_.set_interaction(interaction_);
+}
+
+template <int D>
+void StructureCoupling<D>::account_step(Real work, const Vec<D>& force, int count, int iterations) {
   interaction_work_ += work;
   force_sum_ += force;
   substeps_ += count;
   max_substeps_ = std::max(max_substeps_, count);
-  ++iterations_;
-  max_iterations_seen_ = std::max(max_iterations_seen_, 1);
+  iterations_ += iterations;
+  max_iterations_seen_ = std::max(max_iterations_seen_, iterations);
   ++steps_;
 }
 

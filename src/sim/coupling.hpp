@@ -103,6 +103,10 @@ class StructureCoupling {
   // Runs the substeps across [t, t + dt] with the current interaction field; returns their count and
   // adds the interaction work to `work`.
   int substep(Real t, Real dt, Real& work);
+  // alpha(f->s) = f_s / rho_s (Eq. 48) from force_density_, handed to the TLSPH solver.
+  void set_interaction();
+  // The step's totals for summary(): interaction work, force, substeps, interface iterations.
+  void account_step(Real work, const Vec<D>& force, int count, int iterations);
 
   TlsphSolver<D> solver_;
   CouplingSpec spec_;

@@ -375,10 +375,15 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   WcsphSolver<D>* wcsph = nullptr;
   std::unique_ptr<StructureCoupling<D>> coupling;
   timer.time("setup", [&] {
-    if (spec.fluid.model == "wcsph")
-      solver_ptr = std::unique_ptr<FluidParticles<D>>(wcsph = new WcsphSolver<D>(std::move(scene.fluid)));
-    else
-      solver_ptr = std::unique_ptr<FluidParticles<D>>(isph = new IsphSolver<D>(std::move(scene.fluid)));
+    if (spec.fluid.model == "wcsph") {
+      auto model = std::make_unique<WcsphSolver<D>>(std::move(scene.fluid));
+      wcsph = model.get();
+      solver_ptr = std::move(model);
+    } else {
+      auto model = std::make_unique<IsphSolver<D>>(std::move(scene.fluid));
+      isph = model.get();
+      solver_ptr = std::move(model);
+    }
     if (scene.has_structure)
       coupling = std::make_unique<StructureCoupling<D>>(std::move(scene.structure), spec.coupling, spec.structure.courant,
                                                         gravity_vector<D>(spec.gravity));

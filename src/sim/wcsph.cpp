@@ -119,17 +119,14 @@ template <int D>
 void WcsphSolver<D>::configure(Real dt, PhaseTimer& timer) {
   const Index n = this->size();
   if (!motions_.empty()) timer.time("wall_motion", [&] { this->prescribe_walls(dt); });
-  timer.time("neighbours", [&] {
-    this->find_neighbours();
-  });
+  timer.time("neighbours", [&] { this->find_neighbours(); });
   const FluidView<D> v = this->view();
   if (dual_)
     timer.time("density", [&] {
       parallel_for(exec_, n, DensityReinitialisation<D>{v, density_, self_weight_, full_sum_,
                                                         settings_.free_surface, rho_.data()});
-      const Real c2 = sound_speed_ * sound_speed_;
-      for (Index a = 0; a < n; ++a)
-        if (kind_[a] == FluidKind::fluid) p_[a] = c2 * (rho_[a] - density_);  // Eq. 2
+      parallel_for(exec_, n, EquationOfState<D>{kind_.data(), nullptr, 0.0, density_, sound_speed_, rho_.data(),
+                                                p_.data()});
       forces_current_ = false;
     });
   if (viscosity_ > 0)
@@ -150,41 +147,28 @@ void WcsphSolver<D>::evaluate_forces() {
   const Index n = this->size();
   const FluidView<D> v = this->view();
   parallel_for(exec_, n, BoundaryPressure<D>{v, gravity_, density_, sound_speed_, p_.data(), rho_.data()});
-  // One array for both results: the fluid's pressure acceleration and the boundary's force density.
-  parallel_for(exec_, n, RiemannInteraction<D>{v, u_.data(), rho_.data(), p_.data(), density_,
-                                               sound_speed_, limiter_, nullptr, acceleration_.data()});
-  for (Index a = 0; a < n; ++a)
-    if (kind_[a] != FluidKind::fluid) boundary_force_[a] = acceleration_[a];
+  parallel_for(exec_, n, RiemannInteraction<D>{v, u_.data(), rho_.data(), p_.data(), density_, sound_speed_, limiter_,
+                                               nullptr, acceleration_.data(), boundary_force_.data()});
   forces_current_ = true;
 }
 
 template <int D>
 void WcsphSolver<D>::acoustic_step(Real dt, PhaseTimer& timer, const AcousticHook& hook) {
   const Index n = this->size();
-  auto kick = [&] {  // v += dt/2 (a_p + a_visc + g), Eqs. 13 and 15
-    for (Index a = 0; a < n; ++a)
-      if (kind_[a] == FluidKind::fluid) u_[a] += (0.5 * dt) * (acceleration_[a] + viscous_[a] + gravity_);
+  auto kick = [&] {
+    parallel_for(exec_, n, VerletKick<D>{kind_.data(), acceleration_.data(), viscous_.data(), gravity_, 0.5 * dt,
+                                         u_.data()});
   };
   timer.time("integration", kick);
   if (hook) hook(time_, dt);
-  timer.time("integration", [&] {  // Eq. 14, positions (walls along their prescribed chord)
-    for (Index a = 0; a < n; ++a) {
-      if (kind_[a] == FluidKind::fluid)
-        x_[a] = period_.wrap(x_[a] + dt * u_[a]);
-      else if (kind_[a] == FluidKind::wall)
-        x_[a] = period_.wrap(x_[a] + dt * wall_velocity_[a]);
-    }
+  timer.time("integration", [&] {
+    parallel_for(exec_, n, VerletDrift<D>{kind_.data(), u_.data(), wall_velocity_.data(), dt, period_, x_.data()});
   });
-  timer.time("density", [&] {  // Eq. 14, density; Eq. 2
-    const FluidView<D> v = this->view();
-    parallel_for(exec_, n, RiemannInteraction<D>{v, u_.data(), rho_.data(), p_.data(), density_,
-                                                 sound_speed_, limiter_, drho_dt_.data(), nullptr});
-    const Real c2 = sound_speed_ * sound_speed_;
-    for (Index a = 0; a < n; ++a) {
-      if (kind_[a] != FluidKind::fluid) continue;
-      rho_[a] += dt * drho_dt_[a];
-      p_[a] = c2 * (rho_[a] - density_);
-    }
+  timer.time("density", [&] {
+    parallel_for(exec_, n, RiemannInteraction<D>{this->view(), u_.data(), rho_.data(), p_.data(), density_,
+                                                 sound_speed_, limiter_, drho_dt_.data(), nullptr, nullptr});
+    parallel_for(exec_, n, EquationOfState<D>{kind_.data(), drho_dt_.data(), dt, density_, sound_speed_, rho_.data(),
+                                              p_.data()});
   });
   timer.time("pressure_force", [&] { evaluate_forces(); });
   timer.time("integration", kick);

@@ -80,7 +80,8 @@ struct RiemannInteraction {
   const Real* p;
   Real density, sound_speed, limiter;
   Real* drho_dt;         // continuity pass when not null (fluid particles)
-  Vec<D>* force;         // momentum pass when not null: acceleration (fluid) or force density (boundary)
+  Vec<D>* acceleration;  // momentum pass when not null: the fluid's pressure acceleration ...
+  Vec<D>* boundary_force;  // ... and the boundary particles' force density
 
   ISPH_HD Real volume(Index b) const { return v.is_fluid(b) ? density * v.op.volume[b] / rho[b] : v.op.volume[b]; }
   ISPH_HD Vec<D> velocity(Index b) const { return v.is_fluid(b) ? u[b] : v.wall_velocity[b]; }
@@ -104,14 +105,64 @@ struct RiemannInteraction {
         const Real u_star = (rL * uL + rR * uR + (p[a] - p[b]) / c) / (rL + rR);
         continuity += Vb * (uL - u_star) * dot(e, g);
       }
-      if (force) {
+      if (acceleration) {
         const Real beta = limiter > 0 ? fmin(limiter * fmax(uL - uR, 0.0) / c, 1.0) : 1.0;
         const Real p_star = (rL * p[b] + rR * p[a] + rL * rR * c * beta * (uL - uR)) / (rL + rR);
         momentum += (Vb * p_star) * g;
       }
     }
     if (drho_dt && fluid_a) drho_dt[a] = 2 * rho[a] * continuity;
-    if (force) force[a] = fluid_a ? (-2.0 / rho[a]) * momentum : -2.0 * momentum;
+    if (!acceleration) return;
+    if (fluid_a)
+      acceleration[a] = (-2.0 / rho[a]) * momentum;
+    else
+      boundary_force[a] = -2.0 * momentum;
+  }
+};
+
+// Velocity-Verlet half kick of the fluid, seed 002 Eqs. 13 and 15: v += dt/2 (a_p + a_visc + g).
+template <int D>
+struct VerletKick {
+  const FluidKind* kind;
+  const Vec<D>* acceleration;
+  const Vec<D>* viscous;
+  Vec<D> gravity;
+  Real half_dt;
+  Vec<D>* u;
+  ISPH_HD void operator()(Index a) const {
+    if (kind[a] == FluidKind::fluid) u[a] += half_dt * (acceleration[a] + viscous[a] + gravity);
+  }
+};
+
+// Positions, Eq. 14: the fluid with its half-step velocity, walls along their prescribed chord
+// (structure particles are placed by the coupling).
+template <int D>
+struct VerletDrift {
+  const FluidKind* kind;
+  const Vec<D>* u;
+  const Vec<D>* wall_velocity;
+  Real dt;
+  Periodicity<D> period;
+  Vec<D>* x;
+  ISPH_HD void operator()(Index a) const {
+    if (kind[a] == FluidKind::fluid) x[a] = period.wrap(x[a] + dt * u[a]);
+    else if (kind[a] == FluidKind::wall) x[a] = period.wrap(x[a] + dt * wall_velocity[a]);
+  }
+};
+
+// Density of the fluid advanced by dt drho/dt (Eq. 14; none when drho_dt is null), and its pressure
+// from the equation of state p = c^2 (rho - rho0) (Eq. 2).
+template <int D>
+struct EquationOfState {
+  const FluidKind* kind;
+  const Real* drho_dt;
+  Real dt, density, sound_speed;
+  Real* rho;
+  Real* p;
+  ISPH_HD void operator()(Index a) const {
+    if (kind[a] != FluidKind::fluid) return;
+    if (drho_dt) rho[a] += dt * drho_dt[a];
+    p[a] = sound_speed * sound_speed * (rho[a] - density);
   }
 };
 
