@@ -11,9 +11,14 @@
 // surface) and on every 97th row (splashed particles); b = A x*.
 // A combination whose predicted time (from the previous size, scaled by size^1.5) exceeds --skip-over
 // seconds is skipped. Times are wall seconds of the whole solve() call: copies, set-up and iterations.
+// The cuda backend is included when a device is visible. A second table times the SpMV alone (the
+// host's CSR product and, with a device, cuSPARSE's) against the least traffic of a CSR product
+// (12 bytes per nonzero, 4 per row offset, x read and y written once) and the measured copy bandwidth.
 #include <omp.h>
 
+#include <chrono>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -22,6 +27,9 @@
 #include <string>
 #include <vector>
 
+#include "core/device_memory.hpp"
+#include "poisson/cuda_solver.hpp"
+#include "poisson/krylov.hpp"
 #include "poisson/linear_solver.hpp"
 #include "poisson/manufactured_system.hpp"
 
@@ -35,6 +43,36 @@ std::string cpu_model() {
   while (std::getline(f, line))
     if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
   return "unknown CPU";
+}
+
+constexpr int spmv_repeats = 50;
+
+struct HostSpmv {
+  std::vector<double> y;
+  double seconds = 0;  // per product
+};
+
+// The native backend's product (CsrRowProduct through the launcher), timed over `repeats` products.
+HostSpmv host_spmv(const CsrMatrix& A, const std::vector<double>& x, int repeats) {
+  HostSpmv r;
+  r.y.assign(A.rows, 0.0);
+  const CsrRowProduct product{A.row_offset.data(), A.col.data(), A.val.data(), x.data(), r.y.data()};
+  parallel_for(Exec{}, A.rows, product);  // warm-up
+  const auto start = std::chrono::steady_clock::now();
+  for (int k = 0; k < repeats; ++k) parallel_for(Exec{}, A.rows, product);
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / repeats;
+  return r;
+}
+
+// Bytes per second of memcpy of 512 MiB (read and write counted).
+double host_copy_bandwidth() {
+  const std::size_t bytes = std::size_t{512} << 20;
+  std::vector<unsigned char> from(bytes, 1), to(bytes, 0);
+  std::memcpy(to.data(), from.data(), bytes);  // warm-up
+  constexpr int copies = 4;
+  const auto start = std::chrono::steady_clock::now();
+  for (int k = 0; k < copies; ++k) std::memcpy(to.data(), from.data(), bytes);
+  return 2.0 * bytes * copies / std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 [[noreturn]] void usage(const char* why) {
@@ -75,12 +113,17 @@ int main(int argc, char** argv) {
   if (stencil != 5 && stencil != 9 && stencil != 21) usage("--stencil must be 5, 9 or 21");
   if (sizes.empty()) sizes = {1e4, 1e5, 1e6};
 
+  const bool gpu = cuda_devices() > 0;
   std::vector<SolverSettings> combos;
-  for (const char* backend : {"eigen", "hypre"}) {
-    if (std::string(backend) == "hypre" && !hypre_available()) continue;
-    for (const char* method : {"bicgstab", "gmres"})
-      for (const char* pre : std::string(backend) == "eigen" ? std::vector<const char*>{"jacobi", "ilu", "none"}
-                                                             : std::vector<const char*>{"boomeramg", "jacobi", "none"}) {
+  for (const std::string backend : {"eigen", "hypre", "native", "cuda"}) {
+    if ((backend == "hypre" && !hypre_available()) || (backend == "cuda" && !gpu)) continue;
+    const bool own = backend == "native" || backend == "cuda";
+    for (const std::string method : {"bicgstab", "gmres"}) {
+      if (own && method == "gmres") continue;
+      const std::vector<std::string> preconditioners = backend == "eigen"   ? std::vector<std::string>{"jacobi", "ilu", "none"}
+                                                       : backend == "hypre" ? std::vector<std::string>{"boomeramg", "jacobi", "none"}
+                                                                            : own_krylov_preconditioners();
+      for (const auto& pre : preconditioners) {
         SolverSettings s;
         s.backend = backend;
         s.method = method;
@@ -89,6 +132,7 @@ int main(int argc, char** argv) {
         s.max_iterations = max_iterations;
         if (only.empty() || make_linear_solver(s)->name().find(only) != std::string::npos) combos.push_back(s);
       }
+    }
   }
 
   std::printf("<!-- isph_ppe_bench: %s, %d OpenMP threads, %d-point stencil, tolerance %.0e, max %d iterations -->\n",
@@ -122,6 +166,27 @@ int main(int argc, char** argv) {
                   r.converged ? "yes" : "no");
       if (verbose) std::printf("<!-- %s: %s -->\n", name.c_str(), r.message.c_str());
       std::fflush(stdout);
+    }
+  }
+
+  // SpMV alone, on the same matrices: achieved bandwidth against the least traffic of a CSR product.
+  std::printf("\n| unknowns | nonzeros | SpMV | time per product [ms] | achieved [GB/s] | copy bandwidth [GB/s] | fraction |\n");
+  std::printf("|---:|---:|---|---:|---:|---:|---:|\n");
+  for (double size : sizes) {
+    const int n = std::max(3, static_cast<int>(std::lround(std::sqrt(size))));
+    const ManufacturedSystem p = manufactured_ppe_system(n, stencil);
+    const double bytes = 12.0 * p.A.val.size() + 4.0 * (p.A.rows + 1) + 16.0 * p.A.rows;
+    const auto row = [&](const char* what, double seconds, double copy) {
+      std::printf("| %d | %zu | %s | %.4f | %.1f | %.1f | %.2f |\n", p.A.rows, p.A.col.size(), what, 1e3 * seconds,
+                  bytes / seconds / 1e9, copy / 1e9, bytes / seconds / copy);
+      std::fflush(stdout);
+    };
+    const HostSpmv host = host_spmv(p.A, p.x_star, spmv_repeats);
+    row("host (OpenMP CSR rows)", host.seconds, host_copy_bandwidth());
+    if (gpu) {
+      const SpmvMeasurement m = measure_cuda_spmv(p.A, p.x_star, spmv_repeats);
+      if (relative_difference(m.y, host.y) > 1e-12) std::printf("<!-- cuSPARSE and host products differ -->\n");
+      row("cuSPARSE CSR_ALG2", m.seconds_per_product, m.copy_bandwidth);
     }
   }
   return 0;

@@ -13,9 +13,11 @@
 namespace isph {
 
 namespace detail {
-// Defined in eigen_solver.cpp and hypre_solver.cpp.
+// Defined in eigen_solver.cpp, hypre_solver.cpp, native_solver.cpp and cuda_solver.cu.
 std::unique_ptr<LinearSolver> make_eigen_solver(const SolverSettings&);
 std::unique_ptr<LinearSolver> make_hypre_solver(const SolverSettings&);
+std::unique_ptr<LinearSolver> make_native_solver(const SolverSettings&);
+std::unique_ptr<LinearSolver> make_cuda_solver(const SolverSettings&);
 }  // namespace detail
 
 namespace {
@@ -94,12 +96,16 @@ bool hypre_available() {
 }
 
 std::unique_ptr<LinearSolver> make_linear_solver(const SolverSettings& s) {
-  require_one_of("backend", s.backend, {"eigen", "hypre"});
-  require_one_of("method", s.method, {"bicgstab", "gmres"});
+  require_one_of("backend", s.backend, {"eigen", "hypre", "native", "cuda"});
+  const bool own_krylov = s.backend == "native" || s.backend == "cuda";
+  require_one_of("method", s.method, own_krylov ? std::vector<std::string>{"bicgstab"} : std::vector<std::string>{"bicgstab", "gmres"},
+                 own_krylov ? " for backend '" + s.backend + "'" : "");
   if (s.backend == "eigen")
     require_one_of("preconditioner", s.preconditioner, {"jacobi", "ilu", "none"}, " for backend 'eigen'");
-  else
+  else if (s.backend == "hypre")
     require_one_of("preconditioner", s.preconditioner, {"boomeramg", "jacobi", "none"}, " for backend 'hypre'");
+  else
+    require_one_of("preconditioner", s.preconditioner, own_krylov_preconditioners(), " for backend '" + s.backend + "'");
   if (!(s.tolerance > 0 && s.tolerance < 1))
     throw std::invalid_argument("linear solver: tolerance must be in (0, 1), got " + sci(s.tolerance));
   if (s.max_iterations < 1)
@@ -115,6 +121,8 @@ std::unique_ptr<LinearSolver> make_linear_solver(const SolverSettings& s) {
           "defined; install libhypre-dev and libopenmpi-dev and reconfigure, or use backend 'eigen')");
     return detail::make_hypre_solver(s);
   }
+  if (s.backend == "native") return detail::make_native_solver(s);
+  if (s.backend == "cuda") return detail::make_cuda_solver(s);
   return detail::make_eigen_solver(s);
 }
 

@@ -4,6 +4,10 @@
 //   eigen : Eigen 3.4 BiCGSTAB or restarted GMRES, preconditioned by Jacobi, ILUT or nothing.
 //   hypre : hypre ParCSR BiCGSTAB or GMRES, preconditioned by one BoomerAMG V-cycle, Jacobi or
 //           nothing (only when the build found hypre + MPI: ISPH_HAVE_HYPRE).
+//   native: the project's BiCGSTAB (poisson/krylov.hpp) on the host, preconditioned by Jacobi, a
+//           Jacobi polynomial or nothing.
+//   cuda  : the same BiCGSTAB on the GPU: cuSPARSE SpMV, cuBLAS dot products (only in builds with the
+//           CUDA backend, and only when a device is visible).
 // Every backend reports the TRUE relative residual ||b - A x|| / ||b||, recomputed from the CSR
 // matrix after the solve, and calls the solve converged only when that residual meets the tolerance.
 #pragma once
@@ -25,9 +29,10 @@ struct CsrMatrix {
 };
 
 struct SolverSettings {
-  std::string backend = "eigen";       // eigen | hypre
-  std::string method = "bicgstab";     // bicgstab | gmres
-  std::string preconditioner = "ilu";  // eigen: jacobi | ilu | none ; hypre: boomeramg | jacobi | none
+  std::string backend = "eigen";       // eigen | hypre | native | cuda
+  std::string method = "bicgstab";     // bicgstab | gmres (eigen, hypre); bicgstab (native, cuda)
+  std::string preconditioner = "ilu";  // eigen: jacobi | ilu | none ; hypre: boomeramg | jacobi | none ;
+                                       // native, cuda: jacobi | polynomial | none
   double tolerance = 1e-8;             // relative residual ||b - Ax|| / ||b||
   int max_iterations = 1000;           // Krylov iterations in total (over restarts and refinement passes)
   int gmres_restart = 50;              // Krylov subspace dimension of GMRES
@@ -57,8 +62,15 @@ class LinearSolver {
 };
 
 // Throws std::invalid_argument naming the bad option and its allowed values; asking for hypre in a
-// build without it (ISPH_HAVE_HYPRE undefined) is also an std::invalid_argument that says so.
+// build without it (ISPH_HAVE_HYPRE undefined) is also an std::invalid_argument that says so, and so is
+// asking for cuda in a build without the CUDA backend or on a machine without a visible device.
 std::unique_ptr<LinearSolver> make_linear_solver(const SolverSettings&);
+
+// The preconditioners of the native and cuda backends (the first is the default).
+inline const std::vector<std::string>& own_krylov_preconditioners() {
+  static const std::vector<std::string> p{"jacobi", "polynomial", "none"};
+  return p;
+}
 
 // True when this build contains the hypre backend.
 bool hypre_available();

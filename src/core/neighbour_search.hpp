@@ -114,13 +114,35 @@ struct FillNeighbours {
   }
 };
 
+// The grid of cells of edge `radius` (at least) over the box [lo, hi] of the particles; on a periodic
+// axis, over the period (which must hold at least three cells).
+template <int D>
+CellGrid<D> make_cell_grid(const Vec<D>& lo, const Vec<D>& hi, Real radius, const Periodicity<D>& period) {
+  if (!(radius > 0)) throw std::invalid_argument("CellList: search radius must be positive");
+  CellGrid<D> grid;
+  grid.origin = lo;
+  grid.cells = 1;
+  for (int d = 0; d < D; ++d) {
+    if (period.axis[d]) {
+      grid.origin[d] = period.lo[d];
+      grid.dims[d] = static_cast<int>(period.length[d] / radius);
+      if (grid.dims[d] < 3) throw std::invalid_argument("CellList: a periodic length must be at least 3 search radii");
+      grid.cell_size[d] = period.length[d] / grid.dims[d];
+    } else {
+      grid.cell_size[d] = radius;
+      grid.dims[d] = std::max(1, static_cast<int>((hi[d] - lo[d]) / radius) + 1);
+    }
+    grid.cells *= grid.dims[d];
+  }
+  return grid;
+}
+
 template <int D>
 class CellList {
  public:
   // Buckets x into cells of edge `radius` (at least) over the particles' bounding box; on a periodic
   // axis, over the period (which must hold at least three cells, and every x must lie inside it).
   void build(const std::vector<Vec<D>>& x, Real radius, const Periodicity<D>& period = {}) {
-    if (!(radius > 0)) throw std::invalid_argument("CellList: search radius must be positive");
     x_ = x.data();
     radius_ = radius;
     period_ = period;
@@ -134,21 +156,7 @@ class CellList {
         lo[d] = std::min(lo[d], p[d]);
         hi[d] = std::max(hi[d], p[d]);
       }
-    grid_.origin = lo;
-    grid_.cells = 1;
-    for (int d = 0; d < D; ++d) {
-      if (period.axis[d]) {
-        grid_.origin[d] = period.lo[d];
-        grid_.dims[d] = static_cast<int>(period.length[d] / radius);
-        if (grid_.dims[d] < 3)
-          throw std::invalid_argument("CellList: a periodic length must be at least 3 search radii");
-        grid_.cell_size[d] = period.length[d] / grid_.dims[d];
-      } else {
-        grid_.cell_size[d] = radius;
-        grid_.dims[d] = std::max(1, static_cast<int>((hi[d] - lo[d]) / radius) + 1);
-      }
-      grid_.cells *= grid_.dims[d];
-    }
+    grid_ = make_cell_grid(lo, hi, radius, period);
     cell_start_.assign(static_cast<std::size_t>(grid_.cells) + 1, 0);
     std::vector<Index> cell(x.size());
     for (std::size_t i = 0; i < x.size(); ++i) {

@@ -134,9 +134,10 @@ struct StructureSpec {
 
 // The PPE linear solver (poisson/linear_solver.hpp) and what to do when it fails.
 struct PpeSolverSpec {
-  std::string backend = "eigen";             // eigen | hypre
-  std::string method = "bicgstab";           // bicgstab | gmres
-  std::string preconditioner = "ilu";        // eigen: jacobi | ilu | none; hypre: boomeramg | jacobi | none
+  std::string backend = "eigen";             // eigen | hypre | native | cuda
+  std::string method = "bicgstab";           // bicgstab | gmres (gmres: eigen and hypre only)
+  std::string preconditioner = "ilu";        // eigen: jacobi | ilu | none; hypre: boomeramg | jacobi | none;
+                                             // native, cuda: jacobi | polynomial | none
   double tolerance = 1e-8;                   // relative residual
   int max_iterations = 1000;
   std::string fallback = "none";             // none | eigen | hypre: a second backend tried after a failed solve

@@ -1,5 +1,8 @@
 #include "io/case_loader.hpp"
 
+#include "poisson/linear_solver.hpp"
+
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -414,14 +417,17 @@ void read_fields(Table& t, ShiftingSpec& s) {
 // The preconditioners of each backend (poisson/linear_solver.hpp); the first is the default.
 Choices preconditioners(const std::string& backend) {
   if (backend == "hypre") return {"boomeramg", "jacobi", "none"};
+  if (backend == "native" || backend == "cuda") return own_krylov_preconditioners();
   return {"ilu", "jacobi", "none"};
 }
 
 void read_fields(Table& t, PpeSolverSpec& p) {
-  const bool backend_ok = read_choice(t, "backend", p.backend, {"eigen", "hypre"});
-  read_choice(t, "method", p.method, {"bicgstab", "gmres"});
+  const bool backend_ok = read_choice(t, "backend", p.backend, {"eigen", "hypre", "native", "cuda"});
+  if (read_choice(t, "method", p.method, {"bicgstab", "gmres"}) && backend_ok && p.method == "gmres" &&
+      (p.backend == "native" || p.backend == "cuda"))
+    t.problem("method", "\"gmres\" is not available with backend = " + quote(p.backend) + "; must be \"bicgstab\"");
   if (!t.has("preconditioner")) p.preconditioner = preconditioners(p.backend).front();
-  if (read_choice(t, "preconditioner", p.preconditioner, {"jacobi", "ilu", "none", "boomeramg"}) &&
+  if (read_choice(t, "preconditioner", p.preconditioner, {"jacobi", "ilu", "none", "boomeramg", "polynomial"}) &&
       backend_ok && t.has("preconditioner")) {
     const Choices allowed = preconditioners(p.backend);
     if (std::find(allowed.begin(), allowed.end(), p.preconditioner) == allowed.end())

@@ -9,16 +9,12 @@
 #include <random>
 
 #include "core/device_memory.hpp"
+#include "gpu_skip.hpp"
 #include "structure/tlsph.hpp"
 
 using namespace isph;
 
 namespace {
-
-bool gpu_required() {
-  const char* v = std::getenv("ISPH_REQUIRE_GPU_TESTS");
-  return v && std::string(v) == "1";
-}
 
 // A randomly deformed block with random velocities; fresh inputs for every seed.
 TlsphSolver<2> random_block(unsigned seed, int columns = 40) {
@@ -55,10 +51,7 @@ void poison(std::vector<T>& v) {
 }  // namespace
 
 TEST(DeviceStages, TlsphStressAndAccelerationCudaMatchesCpu) {
-  if (cuda_devices() == 0) {
-    if (gpu_required()) FAIL() << "ISPH_REQUIRE_GPU_TESTS=1 but no CUDA device is usable in this build";
-    GTEST_SKIP() << "no CUDA device (or the build has no CUDA backend)";
-  }
+  ISPH_SKIP_WITHOUT_GPU();
   for (unsigned seed : {1u, 2u, 3u}) {
     TlsphSolver<2> solver = random_block(seed);
     TlsphView<2> h = solver.view();

@@ -814,7 +814,7 @@ fallback = "amgx"
   EXPECT_TRUE(reports(p, path + ": fluid.reference_velocity: must be >= 0 (got -1)"));
   EXPECT_TRUE(reports(p, path + ": fluid.turbulence: must be one of \"none\", \"sps\" (got \"les\")"));
   EXPECT_TRUE(reports(p, path + ": fluid.surface_full: must be > surface_threshold (got 1.5 <= 1.5)"));
-  EXPECT_TRUE(reports(p, path + ": fluid.ppe.backend: must be one of \"eigen\", \"hypre\" (got \"petsc\")"));
+  EXPECT_TRUE(reports(p, path + ": fluid.ppe.backend: must be one of \"eigen\", \"hypre\", \"native\", \"cuda\" (got \"petsc\")"));
   EXPECT_TRUE(reports(p, path + ": fluid.ppe.method: must be one of \"bicgstab\", \"gmres\" (got \"cg\")"));
   EXPECT_TRUE(reports(p, path + ": fluid.ppe.tolerance: must be > 0 and < 1 (got 1)"));
   EXPECT_TRUE(reports(p, path + ": fluid.ppe.max_iterations: must be > 0 (got 0)"));
@@ -849,7 +849,19 @@ fallback = "eigen"
                                             "\"none\""});
   p = problems(path, {"fluid.ppe.preconditioner=amg"});
   EXPECT_TRUE(reports(p, path + ": fluid.ppe.preconditioner: must be one of \"jacobi\", \"ilu\", \"none\", "
-                                "\"boomeramg\" (got \"amg\")"));
+                                "\"boomeramg\", \"polynomial\" (got \"amg\")"));
+
+  // The project's own BiCGSTAB (native on the host, cuda on the GPU): its preconditioners, no GMRES.
+  p = problems(path, {"fluid.ppe.backend=cuda", "fluid.ppe.method=gmres", "fluid.ppe.preconditioner=ilu"});
+  EXPECT_TRUE(reports(p, path + ": fluid.ppe.method: \"gmres\" is not available with backend = \"cuda\"; must be "
+                                "\"bicgstab\""));
+  EXPECT_TRUE(reports(p, path + ": fluid.ppe.preconditioner: \"ilu\" is not available with backend = \"cuda\"; "
+                                "must be one of \"jacobi\", \"polynomial\", \"none\""));
+  EXPECT_EQ(p.size(), 2u);
+  const CaseSpec native = load_case(path, {"fluid.ppe.backend=native", "fluid.ppe.preconditioner=polynomial"});
+  EXPECT_EQ(native.fluid.ppe.preconditioner, "polynomial");
+  EXPECT_EQ(load_case(path, {"fluid.ppe.backend=cuda", "fluid.ppe.preconditioner=none"}).fluid.ppe.preconditioner,
+            "none");
 
   const CaseSpec c = load_case(path, {"fluid.ppe.backend=hypre", "fluid.ppe.preconditioner=jacobi"});
   EXPECT_EQ(c.fluid.ppe.preconditioner, "jacobi");

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/device_memory.hpp"
 #include "poisson/linear_solver.hpp"
 #include "poisson/manufactured_system.hpp"
 
@@ -43,6 +44,7 @@ std::vector<Combination> all_combinations() {
     for (const char* p : {"jacobi", "ilu", "none"}) c.push_back({"eigen", method, p});
     for (const char* p : {"boomeramg", "jacobi", "none"}) c.push_back({"hypre", method, p});
   }
+  for (const auto& p : own_krylov_preconditioners()) c.push_back({"native", "bicgstab", p});
   return c;
 }
 
@@ -174,6 +176,42 @@ TEST(LinearSolverFactory, BadOptionsThrowNamingTheOption) {
   s = {};
   s.gmres_restart = 0;
   EXPECT_NE(expect_invalid(s).find("gmres_restart"), std::string::npos);
+}
+
+TEST(LinearSolverFactory, OwnKrylovBackendsOfferBicgstabWithTheirPreconditioners) {
+  EXPECT_EQ(make_linear_solver(settings("native", "bicgstab", "polynomial"))->name(), "native-bicgstab-polynomial");
+  auto msg = expect_invalid(settings("native", "gmres", "jacobi"));
+  EXPECT_NE(msg.find("method 'gmres' for backend 'native'"), std::string::npos) << msg;
+  msg = expect_invalid(settings("native", "bicgstab", "ilu"));
+  EXPECT_NE(msg.find("jacobi, polynomial, none"), std::string::npos) << msg;
+  msg = expect_invalid(settings("cuda", "bicgstab", "boomeramg"));
+  EXPECT_NE(msg.find("preconditioner 'boomeramg' for backend 'cuda'"), std::string::npos) << msg;
+}
+
+// Without a device (or without the CUDA backend) asking for cuda is an error that says which.
+TEST(LinearSolverFactory, CudaWithoutADeviceIsAClearError) {
+  if (cuda_devices() > 0) GTEST_SKIP() << "a CUDA device is visible";
+  const auto msg = expect_invalid(settings("cuda", "bicgstab", "jacobi"));
+  EXPECT_TRUE(msg.find("none is visible") != std::string::npos || msg.find("no CUDA backend") != std::string::npos)
+      << msg;
+}
+
+// The native backend runs the same BiCGSTAB as Eigen's (van der Vorst's), so with the same Jacobi
+// preconditioner it needs about the same iterations; the polynomial preconditioner (three damped
+// Jacobi sweeps) needs fewer.
+TEST(LinearSolver, NativeBicgstabMatchesEigenAndThePolynomialPreconditionerHelps) {
+  const auto m = manufactured_ppe_system(80, 21);
+  const auto run = [&](const std::string& backend, const std::string& precond) {
+    std::vector<double> x;
+    const auto r = make_linear_solver(settings(backend, "bicgstab", precond, 1e-8))->solve(m.A, m.b, x);
+    EXPECT_TRUE(r.converged) << backend << "-" << precond << ": " << r.message;
+    EXPECT_LT(relative_difference(x, m.x_star), 1e-6) << backend << "-" << precond;
+    return r.iterations;
+  };
+  const int eigen_jacobi = run("eigen", "jacobi"), native_jacobi = run("native", "jacobi"),
+            native_polynomial = run("native", "polynomial");
+  EXPECT_NEAR(native_jacobi, eigen_jacobi, 0.15 * eigen_jacobi);
+  EXPECT_LT(native_polynomial, 0.7 * native_jacobi);
 }
 
 TEST(LinearSolverFactory, HypreWithoutHypreIsAClearError) {

@@ -1,0 +1,174 @@
+// The cuda backend: the project's BiCGSTAB (poisson/krylov.hpp) on the GPU. The matrix and every vector
+// stay in device memory during a solve; SpMV is cuSPARSE's generic CSR product, dot products are
+// cuBLAS's, and the vector updates are the launcher functors that the native backend runs on the host.
+// Only b, x and the scalars of the recurrences cross the bus.
+#include <cublas_v2.h>
+#include <cuda_runtime.h>
+#include <cusparse.h>
+
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/device_memory.hpp"
+#include "poisson/cuda_solver.hpp"
+#include "poisson/krylov.hpp"
+
+namespace isph {
+namespace {
+
+void check(cusparseStatus_t s, const char* what) {
+  if (s != CUSPARSE_STATUS_SUCCESS) throw std::runtime_error(std::string("cuSPARSE ") + what + ": " + cusparseGetErrorString(s));
+}
+void check(cublasStatus_t s, const char* what) {
+  if (s != CUBLAS_STATUS_SUCCESS) throw std::runtime_error(std::string("cuBLAS ") + what + ": " + cublasGetStatusString(s));
+}
+void check(cudaError_t s, const char* what) {
+  if (s != cudaSuccess) throw std::runtime_error(std::string(what) + ": " + cudaGetErrorString(s));
+}
+
+void require_device(const char* who) {
+  if (cuda_devices() == 0)
+    throw std::runtime_error(std::string(who) + " needs a CUDA device, and none is visible to this process");
+}
+
+// CSR_ALG2 gives bit-wise reproducible products (cuSPARSE documentation), so that repeated runs agree.
+constexpr cusparseSpMVAlg_t kSpmvAlgorithm = CUSPARSE_SPMV_CSR_ALG2;
+
+class CudaOps {
+ public:
+  using Vector = DeviceArray<double>;
+
+  CudaOps() {
+    check(cusparseCreate(&sparse_), "create");
+    check(cublasCreate(&blas_), "create");
+  }
+  ~CudaOps() {
+    release();
+    cublasDestroy(blas_);
+    cusparseDestroy(sparse_);
+  }
+  CudaOps(const CudaOps&) = delete;
+  CudaOps& operator=(const CudaOps&) = delete;
+
+  Exec exec() const { return Exec{Device::cuda}; }
+  Vector vector(int n) const { return Vector(static_cast<std::size_t>(n)); }
+  static double* data(Vector& v) { return v.data(); }
+  static const double* data(const Vector& v) { return v.data(); }
+  void upload(const std::vector<double>& h, Vector& v) const { v.upload(h); }
+  void download(const Vector& v, std::vector<double>& h) const { v.download(h); }
+
+  void set_matrix(const CsrMatrix& A) {
+    release();
+    rows_ = A.rows;
+    row_offset_ = DeviceArray<int>(A.row_offset);
+    col_ = DeviceArray<int>(A.col);
+    val_ = DeviceArray<double>(A.val);
+    scratch_ = Vector(static_cast<std::size_t>(A.rows));
+    check(cusparseCreateCsr(&matrix_, A.rows, A.rows, static_cast<int64_t>(A.val.size()), row_offset_.data(),
+                            col_.data(), val_.data(), CUSPARSE_INDEX_32I, CUSPARSE_INDEX_32I,
+                            CUSPARSE_INDEX_BASE_ZERO, CUDA_R_64F),
+          "create CSR matrix");
+    check(cusparseCreateDnVec(&x_, A.rows, scratch_.data(), CUDA_R_64F), "create vector");
+    check(cusparseCreateDnVec(&y_, A.rows, scratch_.data(), CUDA_R_64F), "create vector");
+    std::size_t bytes = 0;
+    const double one = 1, zero = 0;
+    check(cusparseSpMV_bufferSize(sparse_, CUSPARSE_OPERATION_NON_TRANSPOSE, &one, matrix_, x_, &zero, y_, CUDA_R_64F,
+                                  kSpmvAlgorithm, &bytes),
+          "SpMV buffer size");
+    buffer_ = DeviceArray<unsigned char>(bytes);
+  }
+
+  void spmv(const Vector& x, Vector& y) {
+    check(cusparseDnVecSetValues(x_, const_cast<double*>(x.data())), "set vector");
+    check(cusparseDnVecSetValues(y_, y.data()), "set vector");
+    const double one = 1, zero = 0;
+    check(cusparseSpMV(sparse_, CUSPARSE_OPERATION_NON_TRANSPOSE, &one, matrix_, x_, &zero, y_, CUDA_R_64F,
+                       kSpmvAlgorithm, buffer_.data()),
+          "SpMV");
+  }
+
+  double dot(const Vector& x, const Vector& y) {
+    double r = 0;
+    check(cublasDdot(blas_, rows_, x.data(), 1, y.data(), 1, &r), "ddot");
+    return r;
+  }
+
+  void release() {
+    if (x_) cusparseDestroyDnVec(x_);
+    if (y_) cusparseDestroyDnVec(y_);
+    if (matrix_) cusparseDestroySpMat(matrix_);
+    x_ = y_ = nullptr;
+    matrix_ = nullptr;
+    row_offset_ = {}, col_ = {}, val_ = {}, scratch_ = {}, buffer_ = {};
+  }
+
+ private:
+  cusparseHandle_t sparse_ = nullptr;
+  cublasHandle_t blas_ = nullptr;
+  int rows_ = 0;
+  DeviceArray<int> row_offset_, col_;
+  DeviceArray<double> val_, scratch_;
+  DeviceArray<unsigned char> buffer_;
+  cusparseSpMatDescr_t matrix_ = nullptr;
+  cusparseDnVecDescr_t x_ = nullptr, y_ = nullptr;
+};
+
+// Milliseconds between two events recorded around f().
+template <class F>
+double timed_ms(F&& f) {
+  cudaEvent_t start, stop;
+  check(cudaEventCreate(&start), "event");
+  check(cudaEventCreate(&stop), "event");
+  check(cudaEventRecord(start), "event");
+  f();
+  check(cudaEventRecord(stop), "event");
+  check(cudaEventSynchronize(stop), "event");
+  float ms = 0;
+  check(cudaEventElapsedTime(&ms, start, stop), "event");
+  cudaEventDestroy(start);
+  cudaEventDestroy(stop);
+  return ms;
+}
+
+}  // namespace
+
+namespace detail {
+std::unique_ptr<LinearSolver> make_cuda_solver(const SolverSettings& s) {
+  if (cuda_devices() == 0)
+    throw std::invalid_argument("linear solver: backend 'cuda' needs a CUDA device, and none is visible to this process");
+  return std::make_unique<OwnKrylovSolver<CudaOps>>(s);
+}
+}  // namespace detail
+
+SpmvMeasurement measure_cuda_spmv(const CsrMatrix& A, const std::vector<double>& x, int repeats) {
+  require_device("measure_cuda_spmv");
+  check_linear_system(A, x, x);
+  CudaOps ops;
+  ops.set_matrix(A);
+  auto dx = ops.vector(A.rows), dy = ops.vector(A.rows);
+  ops.upload(x, dx);
+  ops.upload(std::vector<double>(A.rows, std::numeric_limits<double>::quiet_NaN()), dy);  // poisoned
+  ops.spmv(dx, dy);  // warm-up
+  SpmvMeasurement m;
+  m.seconds_per_product = 1e-3 * timed_ms([&] {
+    for (int k = 0; k < repeats; ++k) ops.spmv(dx, dy);
+  }) / repeats;
+  ops.download(dy, m.y);
+  m.bytes_per_product = 12.0 * A.val.size() + 4.0 * (A.rows + 1) + 16.0 * A.rows;
+
+  constexpr std::size_t copy_bytes = std::size_t{512} << 20;
+  DeviceArray<unsigned char> from(copy_bytes), to(copy_bytes);
+  const auto copy = [&] { check(cudaMemcpy(to.data(), from.data(), copy_bytes, cudaMemcpyDeviceToDevice), "copy"); };
+  copy();  // warm-up
+  constexpr int copies = 10;
+  const double ms = timed_ms([&] {
+    for (int k = 0; k < copies; ++k) copy();
+  });
+  m.copy_bandwidth = 2.0 * copy_bytes * copies / (1e-3 * ms);
+  return m;
+}
+
+}  // namespace isph

@@ -1,0 +1,242 @@
+// The project's own Krylov solver, written once over a handful of vector primitives and run by two
+// backends (docs/SOLVERS.md):
+//   native : the primitives on the host (OpenMP), poisson/native_solver.cpp;
+//   cuda   : cuSPARSE generic SpMV and cuBLAS dot products on the GPU, the other primitives as launcher
+//            functors, poisson/cuda_solver.cu.
+// Both backends run the same BiCGSTAB and the same preconditioners, so the host backend is the test
+// bed of the algorithm and the reference of the device one (the shape of AMGCL's backends).
+//
+// An Ops type supplies:
+//   using Vector;                               // a vector in the backend's memory
+//   Exec exec() const;                          // where the functors below run
+//   Vector vector(int n);                       // uninitialised
+//   static double* data(Vector&); static const double* data(const Vector&);
+//   void upload(const std::vector<double>&, Vector&); void download(const Vector&, std::vector<double>&);
+//   void set_matrix(const CsrMatrix&);          // keeps a copy of A in the backend
+//   void spmv(const Vector& x, Vector& y);      // y = A x
+//   double dot(const Vector& x, const Vector& y);
+//   void release();                             // frees the copy of A
+#pragma once
+
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/parallel.hpp"
+#include "poisson/linear_solver.hpp"
+
+namespace isph {
+
+// y = a (d ⊙ x) + b y, with d = 1 when d is null; b = 0 overwrites y (which may hold NaN).
+struct ScaledAxpby {
+  double a, b;
+  const double* d;
+  const double* x;
+  double* y;
+  ISPH_HD void operator()(Index i) const {
+    const double dx = d ? d[i] * x[i] : x[i];
+    y[i] = b == 0 ? a * dx : a * dx + b * y[i];
+  }
+};
+
+// y_i = sum_k A_ik x_k over row i of a CSR matrix (the host SpMV).
+struct CsrRowProduct {
+  const int* row_offset;
+  const int* col;
+  const double* val;
+  const double* x;
+  double* y;
+  ISPH_HD void operator()(Index i) const {
+    double s = 0;
+    for (int k = row_offset[i]; k < row_offset[i + 1]; ++k) s += val[k] * x[col[k]];
+    y[i] = s;
+  }
+};
+
+// The polynomial preconditioner: kPolynomialSweeps damped-Jacobi sweeps from z = 0,
+//   z_0 = ω D⁻¹ r,  z_{k+1} = z_k + ω D⁻¹ (r − A z_k),
+// i.e. z = p(D⁻¹A) D⁻¹ r with p(λ) = (1 − (1 − ωλ)^m) / λ (a truncated Neumann series, Saad 2003
+// §12.3). For the PPE's weakly diagonally dominant rows D⁻¹A has its eigenvalues in (0, 2], where
+// ω = 2/3 keeps |1 − ωλ| ≤ 1/3 at the top of the spectrum; each application costs m − 1 SpMVs.
+inline constexpr int kPolynomialSweeps = 3;
+inline constexpr double kPolynomialDamping = 2.0 / 3.0;
+
+// BiCGSTAB (van der Vorst 1992) with right preconditioning, over an Ops backend. Holds the work vectors
+// of one matrix size.
+template <class Ops>
+class Bicgstab {
+ public:
+  using Vector = typename Ops::Vector;
+  enum class Preconditioner { none, jacobi, polynomial };
+
+  Bicgstab(Ops& ops, int n, Preconditioner m, const std::vector<double>& inverse_diagonal)
+      : ops_(ops), n_(n), m_(m), dinv_(ops.vector(n)), r_(ops.vector(n)), rhat_(ops.vector(n)), p_(ops.vector(n)),
+        v_(ops.vector(n)), s_(ops.vector(n)), t_(ops.vector(n)), phat_(ops.vector(n)), shat_(ops.vector(n)),
+        work_(ops.vector(n)) {
+    ops_.upload(inverse_diagonal, dinv_);
+  }
+
+  // Iterates from x until ||r|| <= tol_abs or max_iterations; x is in the backend's memory. Returns the
+  // iterations done, whether the recursive residual met tol_abs, and why it stopped otherwise.
+  struct Result {
+    int iterations = 0;
+    bool converged = false;
+    std::string note;
+  };
+  Result run(const Vector& b, Vector& x, double tol_abs, int max_iterations) {
+    Result res;
+    ops_.spmv(x, r_);
+    axpby(1, b, -1, r_);  // r = b − A x
+    axpby(1, r_, 0, rhat_);
+    if (norm(r_) <= tol_abs) {
+      res.converged = true;
+      return res;
+    }
+    double rho_old = 1, alpha = 1, omega = 1;
+    for (int it = 0; it < max_iterations; ++it) {
+      const double rho = ops_.dot(rhat_, r_);
+      if (rho == 0 || !std::isfinite(rho)) {
+        res.note = "BiCGSTAB breakdown (rho = 0)";
+        return res;
+      }
+      if (it == 0) {
+        axpby(1, r_, 0, p_);
+      } else {  // p = r + β (p − ω v)
+        const double beta = (rho / rho_old) * (alpha / omega);
+        axpby(-omega, v_, 1, p_);
+        axpby(1, r_, beta, p_);
+      }
+      precondition(p_, phat_);
+      ops_.spmv(phat_, v_);
+      const double rhat_v = ops_.dot(rhat_, v_);
+      if (rhat_v == 0 || !std::isfinite(rhat_v)) {
+        res.note = "BiCGSTAB breakdown (r̂·v = 0)";
+        return res;
+      }
+      alpha = rho / rhat_v;
+      axpby(1, r_, 0, s_);
+      axpby(-alpha, v_, 1, s_);  // s = r − α v
+      res.iterations = it + 1;
+      if (norm(s_) <= tol_abs) {
+        axpby(alpha, phat_, 1, x);
+        res.converged = true;
+        return res;
+      }
+      precondition(s_, shat_);
+      ops_.spmv(shat_, t_);
+      const double tt = ops_.dot(t_, t_);
+      omega = tt > 0 ? ops_.dot(t_, s_) / tt : 0;
+      axpby(alpha, phat_, 1, x);
+      axpby(omega, shat_, 1, x);  // x += α p̂ + ω ŝ
+      axpby(1, s_, 0, r_);
+      axpby(-omega, t_, 1, r_);  // r = s − ω t
+      if (norm(r_) <= tol_abs) {
+        res.converged = true;
+        return res;
+      }
+      if (omega == 0 || !std::isfinite(omega)) {
+        res.note = "BiCGSTAB breakdown (omega = 0)";
+        return res;
+      }
+      rho_old = rho;
+    }
+    return res;
+  }
+
+  double norm(const Vector& x) { return std::sqrt(ops_.dot(x, x)); }
+
+ private:
+  void axpby(double a, const Vector& x, double b, Vector& y) { scaled_axpby(a, nullptr, x, b, y); }
+  void scaled_axpby(double a, const Vector* d, const Vector& x, double b, Vector& y) {
+    parallel_for(ops_.exec(), n_, ScaledAxpby{a, b, d ? Ops::data(*d) : nullptr, Ops::data(x), Ops::data(y)});
+  }
+
+  // z = M⁻¹ r
+  void precondition(const Vector& r, Vector& z) {
+    switch (m_) {
+      case Preconditioner::none:
+        axpby(1, r, 0, z);
+        return;
+      case Preconditioner::jacobi:
+        scaled_axpby(1, &dinv_, r, 0, z);
+        return;
+      case Preconditioner::polynomial:
+        scaled_axpby(kPolynomialDamping, &dinv_, r, 0, z);
+        for (int k = 1; k < kPolynomialSweeps; ++k) {
+          ops_.spmv(z, work_);
+          axpby(1, r, -1, work_);
+          scaled_axpby(kPolynomialDamping, &dinv_, work_, 1, z);
+        }
+        return;
+    }
+  }
+
+  Ops& ops_;
+  int n_;
+  Preconditioner m_;
+  Vector dinv_, r_, rhat_, p_, v_, s_, t_, phat_, shat_, work_;
+};
+
+namespace detail {
+
+// A LinearSolver over an Ops backend: the shared frame (linear_solver.hpp) around Bicgstab<Ops>.
+template <class Ops>
+class OwnKrylovSolver final : public KrylovSolverFrame {
+ public:
+  explicit OwnKrylovSolver(const SolverSettings& s) : KrylovSolverFrame(s) {}
+  ~OwnKrylovSolver() override { release(); }
+
+ protected:
+  std::string setup(const CsrMatrix& A, const std::vector<double>& b) override {
+    using P = typename Bicgstab<Ops>::Preconditioner;
+    const P m = settings_.preconditioner == "jacobi"       ? P::jacobi
+                : settings_.preconditioner == "polynomial" ? P::polynomial
+                                                           : P::none;
+    std::vector<double> dinv(A.rows, 1.0);
+    if (m != P::none)
+      for (int i = 0; i < A.rows; ++i) {
+        double diag = 0;
+        for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k)
+          if (A.col[k] == i) diag = A.val[k];
+        if (diag == 0) return "zero diagonal in row " + std::to_string(i) + ": the Jacobi scaling cannot be built";
+        dinv[i] = 1.0 / diag;
+      }
+    ops_.set_matrix(A);
+    krylov_.emplace(ops_, A.rows, m, dinv);
+    b_ = ops_.vector(A.rows);
+    x_ = ops_.vector(A.rows);
+    update_rhs(b);
+    return "";
+  }
+
+  void update_rhs(const std::vector<double>& b) override {
+    ops_.upload(b, b_);
+    b_norm_ = krylov_->norm(b_);
+  }
+
+  Pass iterate(std::vector<double>& x, double tol, int max_iterations) override {
+    ops_.upload(x, x_);
+    const auto r = krylov_->run(b_, x_, tol * b_norm_, max_iterations);
+    ops_.download(x_, x);
+    return Pass{r.iterations, r.converged, r.note};
+  }
+
+  void release() override {
+    krylov_.reset();
+    b_ = {};
+    x_ = {};
+    ops_.release();
+  }
+
+  bool tolerance_relative_to_initial_residual() const override { return false; }
+
+ private:
+  Ops ops_;
+  std::optional<Bicgstab<Ops>> krylov_;  // the work vectors of the current matrix
+  typename Ops::Vector b_, x_;
+  double b_norm_ = 0;
+};
+
+}  // namespace detail
+}  // namespace isph

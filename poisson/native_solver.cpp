@@ -1,0 +1,53 @@
+// The native backend: the project's BiCGSTAB (poisson/krylov.hpp) on the host, its loops run by the
+// launcher with OpenMP. It is the host reference of the cuda backend, which runs the same code.
+#include <algorithm>
+#include <memory>
+#include <vector>
+
+#include "poisson/krylov.hpp"
+
+namespace isph::detail {
+namespace {
+
+class HostOps {
+ public:
+  using Vector = std::vector<double>;
+  Exec exec() const { return Exec{Device::cpu}; }
+  Vector vector(int n) const { return Vector(static_cast<std::size_t>(n)); }
+  static double* data(Vector& v) { return v.data(); }
+  static const double* data(const Vector& v) { return v.data(); }
+  void upload(const std::vector<double>& h, Vector& v) const { v = h; }
+  void download(const Vector& v, std::vector<double>& h) const { h = v; }
+  void set_matrix(const CsrMatrix& A) { A_ = A; }
+  void spmv(const Vector& x, Vector& y) const {
+    parallel_for(exec(), A_.rows, CsrRowProduct{A_.row_offset.data(), A_.col.data(), A_.val.data(), x.data(), y.data()});
+  }
+  // Summed in fixed blocks, then the block sums in order: the result does not depend on the threads.
+  double dot(const Vector& x, const Vector& y) const {
+    constexpr Index block = 4096;
+    const auto n = static_cast<Index>(x.size());
+    const Index blocks = (n + block - 1) / block;
+    std::vector<double> partial(blocks);
+#pragma omp parallel for schedule(static) if (blocks > 1)
+    for (Index k = 0; k < blocks; ++k) {
+      double s = 0;
+      for (Index i = k * block; i < std::min(n, (k + 1) * block); ++i) s += x[i] * y[i];
+      partial[k] = s;
+    }
+    double s = 0;
+    for (double e : partial) s += e;
+    return s;
+  }
+  void release() { A_ = CsrMatrix(); }
+
+ private:
+  CsrMatrix A_;
+};
+
+}  // namespace
+
+std::unique_ptr<LinearSolver> make_native_solver(const SolverSettings& s) {
+  return std::make_unique<OwnKrylovSolver<HostOps>>(s);
+}
+
+}  // namespace isph::detail

@@ -1,0 +1,114 @@
+// The cuda solver backend against the native one (the same BiCGSTAB on the host), on fresh random
+// systems: the cuSPARSE product against the host product, and whole solves with every preconditioner.
+// Skipped without a CUDA device; ISPH_REQUIRE_GPU_TESTS=1 makes the skip a failure.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "gpu_skip.hpp"
+#include "poisson/cuda_solver.hpp"
+#include "poisson/krylov.hpp"
+#include "poisson/linear_solver.hpp"
+#include "poisson/manufactured_system.hpp"
+
+using namespace isph;
+
+namespace {
+
+std::vector<double> random_vector(std::size_t n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<double> v(n);
+  for (auto& e : v) e = u(rng);
+  return v;
+}
+
+// The manufactured PPE-like matrix with fresh random off-diagonal values (each scaled by a factor in
+// [0.5, 1.5]) and the diagonal reset to the sum of their magnitudes, as the PPE's rows have it; the
+// identity rows (free surface) stay.
+CsrMatrix random_matrix(int n, unsigned seed) {
+  CsrMatrix A = manufactured_ppe_system(n, 21).A;
+  const auto f = random_vector(A.val.size(), seed);
+  for (int i = 0; i < A.rows; ++i) {
+    if (A.row_offset[i + 1] - A.row_offset[i] == 1) continue;
+    double off = 0;
+    int diagonal = -1;
+    for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k) {
+      if (A.col[k] == i) {
+        diagonal = k;
+        continue;
+      }
+      A.val[k] *= 1.0 + 0.5 * f[k];
+      off += std::abs(A.val[k]);
+    }
+    A.val[diagonal] = off;
+  }
+  return A;
+}
+
+std::vector<double> host_product(const CsrMatrix& A, const std::vector<double>& x) {
+  std::vector<double> y(A.rows, std::nan(""));
+  parallel_for(Exec{}, A.rows, CsrRowProduct{A.row_offset.data(), A.col.data(), A.val.data(), x.data(), y.data()});
+  return y;
+}
+
+}  // namespace
+
+TEST(DeviceSolvers, CusparseProductMatchesTheHostProduct) {
+  ISPH_SKIP_WITHOUT_GPU();
+  for (unsigned seed : {11u, 12u, 13u}) {
+    const CsrMatrix A = random_matrix(150, seed);
+    const auto x = random_vector(A.rows, seed + 100);
+    const auto expected = host_product(A, x);
+    const SpmvMeasurement m = measure_cuda_spmv(A, x, 3);  // its output is poisoned with NaN first
+    ASSERT_EQ(m.y.size(), expected.size());
+    double worst = 0;
+    for (int i = 0; i < A.rows; ++i) worst = std::max(worst, std::abs(m.y[i] - expected[i]) / (std::abs(expected[i]) + 1e-300));
+    EXPECT_LT(worst, 1e-12) << "seed " << seed;
+    EXPECT_GT(m.seconds_per_product, 0.0);
+    EXPECT_GT(m.copy_bandwidth, 0.0);
+  }
+}
+
+// The same algorithm on both devices: equal iteration counts (to one, as dot products are summed in
+// another order) and solutions within the tolerance's reach of each other.
+TEST(DeviceSolvers, CudaBicgstabMatchesNativeWithEveryPreconditioner) {
+  ISPH_SKIP_WITHOUT_GPU();
+  unsigned seed = 21;
+  for (const auto& preconditioner : own_krylov_preconditioners()) {
+    const CsrMatrix A = random_matrix(100, seed);
+    const auto x_star = random_vector(A.rows, seed + 1);
+    const auto b = host_product(A, x_star);
+    ++seed;
+    SolverSettings s;
+    s.method = "bicgstab";
+    s.preconditioner = preconditioner;
+    s.tolerance = 1e-10;
+    s.max_iterations = 3000;
+    s.backend = "native";
+    std::vector<double> x_host, x_device(A.rows, std::nan(""));  // a NaN guess is replaced by zero
+    const auto rh = make_linear_solver(s)->solve(A, b, x_host);
+    s.backend = "cuda";
+    auto solver = make_linear_solver(s);
+    EXPECT_EQ(solver->name(), "cuda-bicgstab-" + preconditioner);
+    const auto rd = solver->solve(A, b, x_device);
+    ASSERT_TRUE(rh.converged) << preconditioner << ": " << rh.message;
+    ASSERT_TRUE(rd.converged) << preconditioner << ": " << rd.message;
+    EXPECT_LE(std::abs(rd.iterations - rh.iterations), 1) << preconditioner;
+    EXPECT_LT(relative_difference(x_device, x_host), 1e-8) << preconditioner;
+    EXPECT_LT(relative_difference(x_device, x_star), 1e-7) << preconditioner;
+
+    // Same matrix, a new right-hand side: the device copy of A is reused.
+    const auto b2 = host_product(A, random_vector(A.rows, seed + 50));
+    std::vector<double> y_host, y_device;
+    s.backend = "native";
+    auto host_solver = make_linear_solver(s);
+    host_solver->solve(A, b, y_host);
+    ASSERT_TRUE(host_solver->solve(A, b2, y_host, true).converged);
+    ASSERT_TRUE(solver->solve(A, b2, y_device, true).converged) << preconditioner;
+    EXPECT_LT(relative_difference(y_device, y_host), 1e-8) << preconditioner;
+  }
+}
