@@ -2,7 +2,7 @@
 // system, at the given numbers of unknowns. Prints a markdown table (docs/SOLVERS.md).
 //
 //   build/isph_ppe_bench [--stencil 5|9|21] [--tol 1e-8] [--max-iterations 1000] [--skip-over 300]
-//                        [--only SUBSTRING] [--verbose] [SIZE...]   (default sizes: 1e4 1e5 1e6)
+//                        [--only SUBSTRING] [--spmv-only] [--verbose] [SIZE...]   (default sizes: 1e4 1e5 1e6)
 //
 // The system: an n x n grid (n = round(sqrt(SIZE))), a non-symmetric convection-diffusion M-matrix with
 // the given stencil (21 points, the default, is about the 20-30 neighbours of a 2D SPH particle):
@@ -78,7 +78,7 @@ double host_copy_bandwidth() {
 [[noreturn]] void usage(const char* why) {
   std::fprintf(stderr,
                "isph_ppe_bench: %s\nusage: isph_ppe_bench [--stencil 5|9|21] [--tol T] [--max-iterations N] "
-               "[--skip-over SECONDS] [--only SUBSTRING] [--verbose] [SIZE...]\n",
+               "[--skip-over SECONDS] [--only SUBSTRING] [--spmv-only] [--verbose] [SIZE...]\n",
                why);
   std::exit(2);
 }
@@ -89,7 +89,7 @@ int main(int argc, char** argv) {
   int stencil = 21, max_iterations = 1000;
   double tol = 1e-8, skip_over = 300;
   std::string only;
-  bool verbose = false;
+  bool verbose = false, spmv_only = false;
   std::vector<double> sizes;
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
@@ -104,6 +104,7 @@ int main(int argc, char** argv) {
       else if (arg == "--skip-over") skip_over = std::stod(value());
       else if (arg == "--only") only = value();
       else if (arg == "--verbose") verbose = true;
+      else if (arg == "--spmv-only") spmv_only = true;
       else if (arg == "-h" || arg == "--help") usage("help");
       else sizes.push_back(std::stod(arg));
     } catch (const std::logic_error&) {
@@ -137,12 +138,14 @@ int main(int argc, char** argv) {
 
   std::printf("<!-- isph_ppe_bench: %s, %d OpenMP threads, %d-point stencil, tolerance %.0e, max %d iterations -->\n",
               cpu_model().c_str(), omp_get_max_threads(), stencil, tol, max_iterations);
-  std::printf("| unknowns | nonzeros | solver | setup+solve [s] | iterations | rel. residual | error vs x* | converged |\n");
-  std::printf("|---:|---:|---|---:|---:|---:|---:|---|\n");
+  if (!spmv_only) {
+    std::printf("| unknowns | nonzeros | solver | setup+solve [s] | iterations | rel. residual | error vs x* | converged |\n");
+    std::printf("|---:|---:|---|---:|---:|---:|---:|---|\n");
+  }
   std::fflush(stdout);
 
   std::map<std::string, std::pair<double, double>> last;  // solver name -> (unknowns, seconds)
-  for (double size : sizes) {
+  for (double size : spmv_only ? std::vector<double>{} : sizes) {
     const int n = std::max(3, static_cast<int>(std::lround(std::sqrt(size))));
     const ManufacturedSystem p = manufactured_ppe_system(n, stencil);
     const double N = p.A.rows;
@@ -170,7 +173,7 @@ int main(int argc, char** argv) {
   }
 
   // SpMV alone, on the same matrices: achieved bandwidth against the least traffic of a CSR product.
-  std::printf("\n| unknowns | nonzeros | SpMV | time per product [ms] | achieved [GB/s] | copy bandwidth [GB/s] | fraction |\n");
+  std::printf("%s| unknowns | nonzeros | SpMV | time per product [ms] | achieved [GB/s] | copy bandwidth [GB/s] | fraction |\n", spmv_only ? "" : "\n");
   std::printf("|---:|---:|---|---:|---:|---:|---:|\n");
   for (double size : sizes) {
     const int n = std::max(3, static_cast<int>(std::lround(std::sqrt(size))));
