@@ -23,11 +23,12 @@ class HostOps {
     parallel_for(exec(), A_.rows, CsrRowProduct{A_.row_offset.data(), A_.col.data(), A_.val.data(), x.data(), y.data()});
   }
   // Summed in fixed blocks, then the block sums in order: the result does not depend on the threads.
-  double dot(const Vector& x, const Vector& y) const {
+  double dot(const Vector& x, const Vector& y) {
     constexpr Index block = 4096;
     const auto n = static_cast<Index>(x.size());
     const Index blocks = (n + block - 1) / block;
-    std::vector<double> partial(blocks);
+    std::vector<double>& partial = partial_sums_;  // kept between calls: no allocation per product
+    partial.resize(blocks);
 #pragma omp parallel for schedule(static) if (blocks > 1)
     for (Index k = 0; k < blocks; ++k) {
       double s = 0;
@@ -42,6 +43,7 @@ class HostOps {
 
  private:
   CsrMatrix A_;
+  std::vector<double> partial_sums_;  // dot(): one sum per block
 };
 
 }  // namespace
