@@ -116,15 +116,10 @@ int main(int argc, char** argv) {
 
   const bool gpu = cuda_devices() > 0;
   std::vector<SolverSettings> combos;
-  for (const std::string backend : {"eigen", "hypre", "native", "cuda"}) {
+  for (const auto& backend : solver_backends()) {
     if ((backend == "hypre" && !hypre_available()) || (backend == "cuda" && !gpu)) continue;
-    const bool own = backend == "native" || backend == "cuda";
-    for (const std::string method : {"bicgstab", "gmres"}) {
-      if (own && method == "gmres") continue;
-      const std::vector<std::string> preconditioners = backend == "eigen"   ? std::vector<std::string>{"jacobi", "ilu", "none"}
-                                                       : backend == "hypre" ? std::vector<std::string>{"boomeramg", "jacobi", "none"}
-                                                                            : own_krylov_preconditioners();
-      for (const auto& pre : preconditioners) {
+    for (const auto& method : solver_methods(backend))
+      for (const auto& pre : solver_preconditioners(backend)) {
         SolverSettings s;
         s.backend = backend;
         s.method = method;
@@ -133,7 +128,6 @@ int main(int argc, char** argv) {
         s.max_iterations = max_iterations;
         if (only.empty() || make_linear_solver(s)->name().find(only) != std::string::npos) combos.push_back(s);
       }
-    }
   }
 
   std::printf("<!-- isph_ppe_bench: %s, %d OpenMP threads, %d-point stencil, tolerance %.0e, max %d iterations -->\n",

@@ -60,13 +60,15 @@ class CudaOps {
   void upload(const std::vector<double>& h, Vector& v) const { v.upload(h); }
   void download(const Vector& v, std::vector<double>& h) const { v.download(h); }
 
+  // The device arrays are reused from matrix to matrix (reallocated only when a size changes); the
+  // descriptors, host-side objects, are made anew.
   void set_matrix(const CsrMatrix& A) {
     release();
     rows_ = A.rows;
-    row_offset_ = DeviceArray<int>(A.row_offset);
-    col_ = DeviceArray<int>(A.col);
-    val_ = DeviceArray<double>(A.val);
-    scratch_ = Vector(static_cast<std::size_t>(A.rows));
+    row_offset_.assign(A.row_offset);
+    col_.assign(A.col);
+    val_.assign(A.val);
+    scratch_.grow_to(static_cast<std::size_t>(A.rows));
     check(cusparseCreateCsr(&matrix_, A.rows, A.rows, static_cast<int64_t>(A.val.size()), row_offset_.data(),
                             col_.data(), val_.data(), CUSPARSE_INDEX_32I, CUSPARSE_INDEX_32I,
                             CUSPARSE_INDEX_BASE_ZERO, CUDA_R_64F),
@@ -78,7 +80,7 @@ class CudaOps {
     check(cusparseSpMV_bufferSize(sparse_, CUSPARSE_OPERATION_NON_TRANSPOSE, &one, matrix_, x_, &zero, y_, CUDA_R_64F,
                                   kSpmvAlgorithm, &bytes),
           "SpMV buffer size");
-    buffer_ = DeviceArray<unsigned char>(bytes);
+    buffer_.grow_to(bytes);
   }
 
   void spmv(const Vector& x, Vector& y) {
@@ -96,13 +98,13 @@ class CudaOps {
     return r;
   }
 
+  // Destroys the descriptors; the device arrays stay for the next matrix (and go with the object).
   void release() {
     if (x_) cusparseDestroyDnVec(x_);
     if (y_) cusparseDestroyDnVec(y_);
     if (matrix_) cusparseDestroySpMat(matrix_);
     x_ = y_ = nullptr;
     matrix_ = nullptr;
-    row_offset_ = {}, col_ = {}, val_ = {}, scratch_ = {}, buffer_ = {};
   }
 
  private:

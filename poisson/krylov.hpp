@@ -12,10 +12,10 @@
 //   Vector vector(int n);                       // uninitialised
 //   static double* data(Vector&); static const double* data(const Vector&);
 //   void upload(const std::vector<double>&, Vector&); void download(const Vector&, std::vector<double>&);
-//   void set_matrix(const CsrMatrix&);          // keeps a copy of A in the backend
+//   void set_matrix(const CsrMatrix&);          // keeps a copy of A in the backend (reusing its storage)
 //   void spmv(const Vector& x, Vector& y);      // y = A x
 //   double dot(const Vector& x, const Vector& y);
-//   void release();                             // frees the copy of A
+//   void release();                             // done with the copy of A
 #pragma once
 
 #include <cmath>
@@ -63,17 +63,23 @@ inline constexpr int kPolynomialSweeps = 3;
 inline constexpr double kPolynomialDamping = 2.0 / 3.0;
 
 // BiCGSTAB (van der Vorst 1992) with right preconditioning, over an Ops backend. Holds the work vectors
-// of one matrix size.
+// of one matrix size, reused for every matrix of that size (a run's PPE keeps its size: one row per
+// particle).
 template <class Ops>
 class Bicgstab {
  public:
   using Vector = typename Ops::Vector;
   enum class Preconditioner { none, jacobi, polynomial };
 
-  Bicgstab(Ops& ops, int n, Preconditioner m, const std::vector<double>& inverse_diagonal)
-      : ops_(ops), n_(n), m_(m), dinv_(ops.vector(n)), r_(ops.vector(n)), rhat_(ops.vector(n)), p_(ops.vector(n)),
+  Bicgstab(Ops& ops, int n)
+      : ops_(ops), n_(n), dinv_(ops.vector(n)), r_(ops.vector(n)), rhat_(ops.vector(n)), p_(ops.vector(n)),
         v_(ops.vector(n)), s_(ops.vector(n)), t_(ops.vector(n)), phat_(ops.vector(n)), shat_(ops.vector(n)),
-        work_(ops.vector(n)) {
+        work_(ops.vector(n)) {}
+
+  int size() const { return n_; }
+  // The preconditioner of the next runs; inverse_diagonal = D⁻¹ of the current matrix (ones for none).
+  void set_preconditioner(Preconditioner m, const std::vector<double>& inverse_diagonal) {
+    m_ = m;
     ops_.upload(inverse_diagonal, dinv_);
   }
 
@@ -174,7 +180,7 @@ class Bicgstab {
 
   Ops& ops_;
   int n_;
-  Preconditioner m_;
+  Preconditioner m_ = Preconditioner::none;
   Vector dinv_, r_, rhat_, p_, v_, s_, t_, phat_, shat_, work_;
 };
 
@@ -203,9 +209,12 @@ class OwnKrylovSolver final : public KrylovSolverFrame {
         dinv[i] = 1.0 / diag;
       }
     ops_.set_matrix(A);
-    krylov_.emplace(ops_, A.rows, m, dinv);
-    b_ = ops_.vector(A.rows);
-    x_ = ops_.vector(A.rows);
+    if (!krylov_ || krylov_->size() != A.rows) {  // work vectors only when the size changes
+      krylov_.emplace(ops_, A.rows);
+      b_ = ops_.vector(A.rows);
+      x_ = ops_.vector(A.rows);
+    }
+    krylov_->set_preconditioner(m, dinv);
     update_rhs(b);
     return "";
   }
@@ -222,18 +231,14 @@ class OwnKrylovSolver final : public KrylovSolverFrame {
     return Pass{r.iterations, r.converged, r.note};
   }
 
-  void release() override {
-    krylov_.reset();
-    b_ = {};
-    x_ = {};
-    ops_.release();
-  }
+  // Lets go of the matrix; the work vectors stay for the next matrix of the same size.
+  void release() override { ops_.release(); }
 
   bool tolerance_relative_to_initial_residual() const override { return false; }
 
  private:
   Ops ops_;
-  std::optional<Bicgstab<Ops>> krylov_;  // the work vectors of the current matrix
+  std::optional<Bicgstab<Ops>> krylov_;  // the work vectors of the current size
   typename Ops::Vector b_, x_;
   double b_norm_ = 0;
 };

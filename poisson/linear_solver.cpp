@@ -87,6 +87,27 @@ std::string sci(double v) {
 
 }  // namespace
 
+const std::vector<std::string>& solver_backends() {
+  static const std::vector<std::string> b{"eigen", "hypre", "native", "cuda"};
+  return b;
+}
+
+const std::vector<std::string>& solver_methods(const std::string& backend) {
+  static const std::vector<std::string> library{"bicgstab", "gmres"}, own{"bicgstab"}, none;
+  if (backend == "eigen" || backend == "hypre") return library;
+  if (backend == "native" || backend == "cuda") return own;
+  return none;
+}
+
+const std::vector<std::string>& solver_preconditioners(const std::string& backend) {
+  static const std::vector<std::string> eigen{"ilu", "jacobi", "none"}, hypre{"boomeramg", "jacobi", "none"},
+      own{"jacobi", "polynomial", "none"}, none;
+  if (backend == "eigen") return eigen;
+  if (backend == "hypre") return hypre;
+  if (backend == "native" || backend == "cuda") return own;
+  return none;
+}
+
 bool hypre_available() {
 #ifdef ISPH_HAVE_HYPRE
   return true;
@@ -96,16 +117,10 @@ bool hypre_available() {
 }
 
 std::unique_ptr<LinearSolver> make_linear_solver(const SolverSettings& s) {
-  require_one_of("backend", s.backend, {"eigen", "hypre", "native", "cuda"});
-  const bool own_krylov = s.backend == "native" || s.backend == "cuda";
-  require_one_of("method", s.method, own_krylov ? std::vector<std::string>{"bicgstab"} : std::vector<std::string>{"bicgstab", "gmres"},
-                 own_krylov ? " for backend '" + s.backend + "'" : "");
-  if (s.backend == "eigen")
-    require_one_of("preconditioner", s.preconditioner, {"jacobi", "ilu", "none"}, " for backend 'eigen'");
-  else if (s.backend == "hypre")
-    require_one_of("preconditioner", s.preconditioner, {"boomeramg", "jacobi", "none"}, " for backend 'hypre'");
-  else
-    require_one_of("preconditioner", s.preconditioner, own_krylov_preconditioners(), " for backend '" + s.backend + "'");
+  require_one_of("backend", s.backend, solver_backends());
+  const std::string for_backend = " for backend '" + s.backend + "'";
+  require_one_of("method", s.method, solver_methods(s.backend), for_backend);
+  require_one_of("preconditioner", s.preconditioner, solver_preconditioners(s.backend), for_backend);
   if (!(s.tolerance > 0 && s.tolerance < 1))
     throw std::invalid_argument("linear solver: tolerance must be in (0, 1), got " + sci(s.tolerance));
   if (s.max_iterations < 1)

@@ -66,11 +66,11 @@ class LinearSolver {
 // asking for cuda in a build without the CUDA backend or on a machine without a visible device.
 std::unique_ptr<LinearSolver> make_linear_solver(const SolverSettings&);
 
-// The preconditioners of the native and cuda backends (the first is the default).
-inline const std::vector<std::string>& own_krylov_preconditioners() {
-  static const std::vector<std::string> p{"jacobi", "polynomial", "none"};
-  return p;
-}
+// What each backend offers: its Krylov methods and its preconditioners, the first being the default
+// (ilu for eigen, boomeramg for hypre, jacobi for native and cuda). An unknown backend has none.
+const std::vector<std::string>& solver_backends();
+const std::vector<std::string>& solver_methods(const std::string& backend);
+const std::vector<std::string>& solver_preconditioners(const std::string& backend);
 
 // True when this build contains the hypre backend.
 bool hypre_available();

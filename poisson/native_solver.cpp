@@ -39,7 +39,7 @@ class HostOps {
     for (double e : partial) s += e;
     return s;
   }
-  void release() { A_ = CsrMatrix(); }
+  void release() {}  // the copy of A stays: the next set_matrix() assigns into its storage
 
  private:
   CsrMatrix A_;

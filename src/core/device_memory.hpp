@@ -32,6 +32,15 @@ class DeviceArray {
   T* data() { return p_; }
   const T* data() const { return p_; }
   std::size_t size() const { return n_; }
+  // Makes the array host's copy, reallocating only when the size changes.
+  void assign(const std::vector<T>& host) {
+    if (host.size() != n_) *this = DeviceArray(host.size());
+    upload(host);
+  }
+  // At least n elements (a scratch buffer: grows, never shrinks; the contents are not kept).
+  void grow_to(std::size_t n) {
+    if (n_ < n) *this = DeviceArray(n);
+  }
   // Copies host into the array; the sizes must agree.
   void upload(const std::vector<T>& host) {
     if (host.size() != n_) throw std::invalid_argument("DeviceArray::upload: size mismatch");

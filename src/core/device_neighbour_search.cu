@@ -22,11 +22,6 @@ void poison(DeviceArray<T>& a) {
   check(cudaMemset(a.data(), 0xFF, a.size() * sizeof(T)), "memset");
 }
 
-// Grows a device scratch buffer to at least `bytes`.
-void reserve(DeviceArray<unsigned char>& scratch, std::size_t bytes) {
-  if (scratch.size() < bytes) scratch = DeviceArray<unsigned char>(bytes);
-}
-
 template <int D>
 struct CopyComponent {
   const Vec<D>* x;
@@ -76,11 +71,11 @@ void DeviceCellList<D>::build(const Vec<D>* x, Index n, Real radius, const Perio
   // Bounding box: one min and one max reduction per axis (2D reductions come back to the host).
   Vec<D> lo = Vec<D>::zero(), hi = Vec<D>::zero();
   if (n > 0) {
-    if (component_.size() < static_cast<std::size_t>(n)) component_ = DeviceArray<Real>(n);
-    if (extreme_.size() < 2) extreme_ = DeviceArray<Real>(2);
+    component_.grow_to(n);
+    extreme_.grow_to(2);
     std::size_t bytes = 0;
     check(cub::DeviceReduce::Min(nullptr, bytes, component_.data(), extreme_.data(), n), "reduce size");
-    reserve(scratch_, bytes);
+    scratch_.grow_to(bytes);
     for (int d = 0; d < D; ++d) {
       parallel_for(gpu, n, CopyComponent<D>{x, d, component_.data()});
       std::size_t b = scratch_.size();
@@ -107,12 +102,12 @@ void DeviceCellList<D>::build(const Vec<D>* x, Index n, Real radius, const Perio
   check(cub::DeviceRadixSort::SortPairs(nullptr, bytes, key_.data(), sorted_key_.data(), identity_.data(),
                                         sorted_.data(), n, 0, bits),
         "sort size");
-  reserve(scratch_, bytes);
+  scratch_.grow_to(bytes);
   bytes = scratch_.size();
   check(cub::DeviceRadixSort::SortPairs(scratch_.data(), bytes, key_.data(), sorted_key_.data(), identity_.data(),
                                         sorted_.data(), n, 0, bits),
         "sort");
-  cell_start_ = DeviceArray<Index>(static_cast<std::size_t>(grid_.cells) + 1);
+  cell_start_.grow_to(static_cast<std::size_t>(grid_.cells) + 1);
   poison(cell_start_);
   parallel_for(gpu, grid_.cells + 1, CellStart{sorted_key_.data(), n, cell_start_.data()});
 }

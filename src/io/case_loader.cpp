@@ -1,8 +1,5 @@
 #include "io/case_loader.hpp"
 
-#include "poisson/linear_solver.hpp"
-
-
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -17,6 +14,8 @@
 #include <sstream>
 #include <toml.hpp>
 #include <utility>
+
+#include "poisson/linear_solver.hpp"
 
 namespace isph {
 
@@ -414,22 +413,19 @@ void read_fields(Table& t, ShiftingSpec& s) {
   t.read("taylor_correction", s.taylor_correction);
 }
 
-// The preconditioners of each backend (poisson/linear_solver.hpp); the first is the default.
-Choices preconditioners(const std::string& backend) {
-  if (backend == "hypre") return {"boomeramg", "jacobi", "none"};
-  if (backend == "native" || backend == "cuda") return own_krylov_preconditioners();
-  return {"ilu", "jacobi", "none"};
-}
-
 void read_fields(Table& t, PpeSolverSpec& p) {
-  const bool backend_ok = read_choice(t, "backend", p.backend, {"eigen", "hypre", "native", "cuda"});
-  if (read_choice(t, "method", p.method, {"bicgstab", "gmres"}) && backend_ok && p.method == "gmres" &&
-      (p.backend == "native" || p.backend == "cuda"))
-    t.problem("method", "\"gmres\" is not available with backend = " + quote(p.backend) + "; must be \"bicgstab\"");
-  if (!t.has("preconditioner")) p.preconditioner = preconditioners(p.backend).front();
+  // The options of every backend (poisson/linear_solver.hpp), then those of the chosen one.
+  const bool backend_ok = read_choice(t, "backend", p.backend, solver_backends());
+  if (read_choice(t, "method", p.method, {"bicgstab", "gmres"}) && backend_ok) {
+    const Choices& allowed = solver_methods(p.backend);
+    if (std::find(allowed.begin(), allowed.end(), p.method) == allowed.end())
+      t.problem("method", quote(p.method) + " is not available with backend = " + quote(p.backend) + "; " +
+                              one_of(allowed));
+  }
+  if (!t.has("preconditioner")) p.preconditioner = solver_preconditioners(p.backend).front();
   if (read_choice(t, "preconditioner", p.preconditioner, {"jacobi", "ilu", "none", "boomeramg", "polynomial"}) &&
       backend_ok && t.has("preconditioner")) {
-    const Choices allowed = preconditioners(p.backend);
+    const Choices& allowed = solver_preconditioners(p.backend);
     if (std::find(allowed.begin(), allowed.end(), p.preconditioner) == allowed.end())
       t.problem("preconditioner", quote(p.preconditioner) + " is not available with backend = " +
                                       quote(p.backend) + "; " + one_of(allowed));

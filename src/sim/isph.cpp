@@ -19,7 +19,7 @@ SolverSettings solver_settings(const PpeSolverSpec& s, const std::string& backen
   out.method = s.method;
   out.preconditioner = s.preconditioner;
   if (backend != s.backend)  // the fallback keeps the method and takes its backend's best preconditioner
-    out.preconditioner = backend == "hypre" ? "boomeramg" : "ilu";
+    out.preconditioner = solver_preconditioners(backend).front();
   out.tolerance = s.tolerance;
   out.max_iterations = s.max_iterations;
   return out;

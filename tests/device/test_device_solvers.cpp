@@ -78,7 +78,7 @@ TEST(DeviceSolvers, CusparseProductMatchesTheHostProduct) {
 TEST(DeviceSolvers, CudaBicgstabMatchesNativeWithEveryPreconditioner) {
   ISPH_SKIP_WITHOUT_GPU();
   unsigned seed = 21;
-  for (const auto& preconditioner : own_krylov_preconditioners()) {
+  for (const auto& preconditioner : solver_preconditioners("cuda")) {
     const CsrMatrix A = random_matrix(100, seed);
     const auto x_star = random_vector(A.rows, seed + 1);
     const auto b = host_product(A, x_star);

@@ -854,7 +854,7 @@ fallback = "eigen"
   // The project's own BiCGSTAB (native on the host, cuda on the GPU): its preconditioners, no GMRES.
   p = problems(path, {"fluid.ppe.backend=cuda", "fluid.ppe.method=gmres", "fluid.ppe.preconditioner=ilu"});
   EXPECT_TRUE(reports(p, path + ": fluid.ppe.method: \"gmres\" is not available with backend = \"cuda\"; must be "
-                                "\"bicgstab\""));
+                                "one of \"bicgstab\""));
   EXPECT_TRUE(reports(p, path + ": fluid.ppe.preconditioner: \"ilu\" is not available with backend = \"cuda\"; "
                                 "must be one of \"jacobi\", \"polynomial\", \"none\""));
   EXPECT_EQ(p.size(), 2u);
