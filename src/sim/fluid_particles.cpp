@@ -148,10 +148,12 @@ InteractionReport<D> FluidParticles<D>::structure_contact() {
   parallel_for(exec_, n, StructureContact<D>{view(), inside_.data(), structure_distance_.data()});
   InteractionReport<D> report;
   report.min_distance = std::numeric_limits<Real>::infinity();
+  Index first_id = -1;
   for (Index k = 0; k < n; ++k) {
     if (kind_[k] != FluidKind::fluid) continue;
     report.fluid_inside += inside_[k];
     report.min_distance = std::min(report.min_distance, structure_distance_[k]);
+    if (inside_[k] && (first_id < 0 || id_[k] < first_id)) first_id = id_[k], report.inside_at = x_[k];
   }
   return report;
 }

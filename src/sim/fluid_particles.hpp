@@ -56,6 +56,7 @@ template <int D>
 struct InteractionReport {
   Index fluid_inside = 0;                // fluid particles inside a structure
   Real min_distance = 0;                 // smallest fluid-structure particle distance (inf: none in reach)
+  Vec<D> inside_at = Vec<D>::zero();     // position of the lowest-id fluid particle inside (when any)
 };
 
 struct FluidStepReport {
