@@ -38,6 +38,13 @@
 
 namespace isph {
 
+// row_offset[a] = a + nbr_offset[a] for a in [0, n]: launched over n + 1 entries.
+struct PpeRowOffsets {
+  const Index* nbr_offset;
+  int* row_offset;
+  ISPH_HD void operator()(Index a) const { row_offset[a] = a + nbr_offset[a]; }
+};
+
 template <int D>
 struct PpeRowFill {
   FluidView<D> v;
@@ -141,6 +148,21 @@ struct PpeRowFill {
 
 // The assembled rows keep a slot per neighbour, many of them zero (wall-wall pairs, Dirichlet rows).
 // The solvers get the matrix without them and with sorted columns, which they need anyway:
+// The right-hand side of the wall rows of structure particles for a new structure acceleration
+// (acceleration indexed as in TLSPH): rhs = (g - a_s) · wall_moment, as PpeRowFill::wall_row sets it,
+// so that only b changes between interface iterations.
+template <int D>
+struct StructureRowRhs {
+  const Index* structure_index;
+  const Vec<D>* acceleration;
+  Vec<D> gravity;
+  const Vec<D>* wall_moment;
+  double* rhs;
+  ISPH_HD void operator()(Index k) const {
+    if (const Index s = structure_index[k]; s >= 0) rhs[k] = dot(gravity - acceleration[s], wall_moment[k]);
+  }
+};
+
 // CountRowEntries gives each row's length, CompactRow copies the entries (insertion sort by column).
 struct CountRowEntries {
   const int* row_offset;

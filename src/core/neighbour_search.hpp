@@ -163,7 +163,7 @@ class CellList {
       cell[i] = grid_.cell_of(x[i]);
       ++cell_start_[cell[i] + 1];
     }
-    for (Index c = 0; c < grid_.cells; ++c) cell_start_[c + 1] += cell_start_[c];
+    inclusive_scan(Exec{}, cell_start_.data() + 1, grid_.cells);
     sorted_.resize(x.size());
     std::vector<Index> fill(cell_start_.begin(), cell_start_.end() - 1);
     for (std::size_t i = 0; i < x.size(); ++i) sorted_[fill[cell[i]]++] = static_cast<Index>(i);
@@ -199,7 +199,7 @@ NeighbourList neighbour_list(const CellList<D>& cells, Index n, const int* group
   list.offset.assign(static_cast<std::size_t>(n) + 1, 0);
   const Exec host{};
   parallel_for(host, n, CountNeighbours<D>{cells.view(group), list.offset.data() + 1});
-  for (Index i = 0; i < n; ++i) list.offset[i + 1] += list.offset[i];
+  inclusive_scan(host, list.offset.data() + 1, n);
   list.index.resize(static_cast<std::size_t>(list.offset[n]));
   parallel_for(host, n, FillNeighbours<D>{cells.view(group), list.offset.data(), list.index.data()});
   return list;

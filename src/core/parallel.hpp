@@ -3,13 +3,19 @@
 //   ISPH_HD void operator()(Index i) const;
 // that reads neighbours and writes only particle i. parallel_for runs it with OpenMP on the host,
 // or as a CUDA kernel when the calling translation unit is compiled by nvcc and the device is cuda.
+// Beside it, the two collective primitives the time step needs: a reduction and a prefix sum.
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "core/types.hpp"
 
 #if defined(__CUDACC__)
 #include <cuda_runtime.h>
+#include <thrust/execution_policy.h>
+#include <thrust/iterator/counting_iterator.h>
+#include <thrust/scan.h>
+#include <thrust/transform_reduce.h>
 #endif
 
 namespace isph {
@@ -42,6 +48,10 @@ void cuda_parallel_for(Index n, const F& f) {
 }
 #endif
 
+[[noreturn]] inline void not_compiled_for_cuda(const char* what) {
+  throw std::runtime_error(std::string(what) + ": not compiled for CUDA (build with nvcc)");
+}
+
 inline constexpr Index kMinParallelLoop = 2048;
 
 template <class F>
@@ -51,13 +61,67 @@ void parallel_for(const Exec& exec, Index n, const F& f) {
     cuda_parallel_for(n, f);
     return;
 #else
-    throw std::runtime_error("parallel_for: this loop was not compiled for CUDA (build with nvcc)");
+    not_compiled_for_cuda("parallel_for");
 #endif
   }
   // Small loops run on one thread: a parallel region costs more than it saves there, and far more
   // when the cores are oversubscribed (every barrier then waits for a time slice).
 #pragma omp parallel for schedule(static) if (n >= kMinParallelLoop)
   for (Index i = 0; i < n; ++i) f(i);
+}
+
+// Combinations for parallel_reduce. Only exact ones are offered (max and min of any type, sums of
+// integers), so that a result does not depend on the thread count, the order or the device.
+struct MaxOf {
+  template <class T>
+  ISPH_HD T operator()(T a, T b) const { return a < b ? b : a; }
+};
+struct MinOf {
+  template <class T>
+  ISPH_HD T operator()(T a, T b) const { return b < a ? b : a; }
+};
+struct IntegerSum {
+  template <class T>
+  ISPH_HD T operator()(T a, T b) const {
+    static_assert(std::is_integral_v<T>, "IntegerSum: a floating-point sum would depend on the order");
+    return a + b;
+  }
+};
+
+// combine over i in [0, n) of value(i), starting from identity (value: a functor Index -> T).
+template <class T, class F, class Combine>
+T parallel_reduce(const Exec& exec, Index n, T identity, const F& value, const Combine& combine) {
+  if (exec.device == Device::cuda) {
+#if defined(__CUDACC__)
+    return thrust::transform_reduce(thrust::device, thrust::counting_iterator<Index>(0),
+                                    thrust::counting_iterator<Index>(n), value, identity, combine);
+#else
+    not_compiled_for_cuda("parallel_reduce");
+#endif
+  }
+  T result = identity;
+#pragma omp parallel if (n >= kMinParallelLoop)
+  {
+    T local = identity;
+#pragma omp for schedule(static) nowait
+    for (Index i = 0; i < n; ++i) local = combine(local, value(i));
+#pragma omp critical(isph_parallel_reduce)
+    result = combine(result, local);
+  }
+  return result;
+}
+
+// v[i] = v[0] + ... + v[i] for i in [0, n): turns counts into the ends of CSR rows.
+inline void inclusive_scan(const Exec& exec, Index* v, Index n) {
+  if (exec.device == Device::cuda) {
+#if defined(__CUDACC__)
+    thrust::inclusive_scan(thrust::device, v, v + n, v);
+    return;
+#else
+    not_compiled_for_cuda("inclusive_scan");
+#endif
+  }
+  for (Index i = 1; i < n; ++i) v[i] += v[i - 1];
 }
 
 }  // namespace isph

@@ -148,4 +148,85 @@ struct Advance {
   }
 };
 
+// The drift of Eq. 11 and its reverse: to = from + step u for fluid particles and from + step U_w for
+// wall and structure particles (step = +dt or -dt), wrapped into the periodic box when `wrap`.
+template <int D>
+struct Drift {
+  const FluidKind* kind;
+  const Vec<D>* u;
+  const Vec<D>* wall_velocity;
+  Real step;
+  bool wrap;
+  Periodicity<D> period;
+  const Vec<D>* from;
+  Vec<D>* to;
+  ISPH_HD void operator()(Index a) const {
+    const Vec<D> to_a = from[a] + step * (kind[a] == FluidKind::fluid ? u[a] : wall_velocity[a]);
+    to[a] = wrap ? period.wrap(to_a) : to_a;
+  }
+};
+
+// Values reduced over the particles (parallel_reduce): |u|^2 of fluid particles (0 for the others);
+// a per-particle scalar; 1 for a fluid row with a Dirichlet condition (alpha = 0); and a key that
+// orders fluid particles by stable id, id * 2^32 + a (the largest key for the others).
+template <int D>
+struct FluidSpeed2 {
+  const FluidKind* kind;
+  const Vec<D>* u;
+  ISPH_HD Real operator()(Index a) const { return kind[a] == FluidKind::fluid ? norm2(u[a]) : 0; }
+};
+struct ScalarAt {
+  const Real* value;
+  ISPH_HD Real operator()(Index a) const { return value[a]; }
+};
+struct DirichletRow {
+  const FluidKind* kind;
+  const Real* alpha;
+  ISPH_HD Index operator()(Index a) const { return kind[a] == FluidKind::fluid && alpha[a] == 0; }
+};
+struct FluidIdKey {
+  const FluidKind* kind;
+  const Index* id;
+  static constexpr long long kNone = 0x7fffffffffffffffLL;
+  ISPH_HD long long operator()(Index a) const {
+    return kind[a] == FluidKind::fluid ? (static_cast<long long>(id[a]) << 32) + a : kNone;
+  }
+};
+
+// Boundary particles that belong to a structure take its state from the TLSPH solver (arrays indexed
+// as there): position, velocity, and the surface normal turned with the deformation,
+// n = F^{-T} N / |F^{-T} N|.
+template <int D>
+struct FollowStructure {
+  const Index* structure_index;
+  const Vec<D>* x;
+  const Vec<D>* v;
+  const Mat<D>* F;
+  const Vec<D>* reference_normal;
+  Vec<D>* position;
+  Vec<D>* velocity;
+  Vec<D>* wall_velocity;
+  Vec<D>* wall_normal;
+  ISPH_HD void operator()(Index k) const {
+    const Index s = structure_index[k];
+    if (s < 0) return;
+    position[k] = x[s];
+    velocity[k] = wall_velocity[k] = v[s];
+    const Vec<D> n = transpose(inverse(F[s])) * reference_normal[k];
+    const Real len = sqrt(norm2(n));
+    wall_normal[k] = len > 0 ? (1.0 / len) * n : Vec<D>::zero();
+  }
+};
+
+// ... and their acceleration over the step.
+template <int D>
+struct FollowStructureAcceleration {
+  const Index* structure_index;
+  const Vec<D>* acceleration;
+  Vec<D>* wall_acceleration;
+  ISPH_HD void operator()(Index k) const {
+    if (const Index s = structure_index[k]; s >= 0) wall_acceleration[k] = acceleration[s];
+  }
+};
+
 }  // namespace isph

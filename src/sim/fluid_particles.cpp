@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "sim/fluid_functors.hpp"
 #include "structure/interaction.hpp"
 
 namespace isph {
@@ -123,21 +124,14 @@ Real FluidParticles<D>::moving_wall_power() const {
 template <int D>
 void FluidParticles<D>::move_structure(const std::vector<Vec<D>>& x, const std::vector<Vec<D>>& v,
                                        const std::vector<Mat<D>>& F) {
-  for (Index k = 0; k < size(); ++k) {
-    const Index s = structure_index_[k];
-    if (s < 0) continue;
-    x_[k] = x[s];
-    u_[k] = wall_velocity_[k] = v[s];
-    const Vec<D> n = transpose(inverse(F[s])) * reference_normal_[k];
-    const Real len = std::sqrt(norm2(n));
-    wall_normal_[k] = len > 0 ? (1.0 / len) * n : Vec<D>::zero();
-  }
+  parallel_for(exec_, size(), FollowStructure<D>{structure_index_.data(), x.data(), v.data(), F.data(),
+                                                 reference_normal_.data(), x_.data(), u_.data(), wall_velocity_.data(),
+                                                 wall_normal_.data()});
 }
 
 template <int D>
 void FluidParticles<D>::set_structure_acceleration(const std::vector<Vec<D>>& a) {
-  for (Index k = 0; k < size(); ++k)
-    if (structure_index_[k] >= 0) wall_acceleration_[k] = a[structure_index_[k]];
+  parallel_for(exec_, size(), FollowStructureAcceleration<D>{structure_index_.data(), a.data(), wall_acceleration_.data()});
 }
 
 template <int D>
@@ -160,10 +154,7 @@ InteractionReport<D> FluidParticles<D>::structure_contact() {
 
 template <int D>
 Real FluidParticles<D>::max_speed() const {
-  Real u2 = 0;
-  for (Index a = 0; a < size(); ++a)
-    if (kind_[a] == FluidKind::fluid) u2 = std::max(u2, norm2(u_[a]));
-  return std::sqrt(u2);
+  return std::sqrt(parallel_reduce(exec_, size(), Real{0}, FluidSpeed2<D>{kind_.data(), u_.data()}, MaxOf{}));
 }
 
 template <int D>

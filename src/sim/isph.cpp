@@ -79,7 +79,7 @@ void IsphSolver<D>::compress_matrix() {
   matrix_.row_offset.assign(n + 1, 0);
   parallel_for(exec_, n, CountRowEntries{full.row_offset.data(), full.col.data(), full.val.data(),
                                          matrix_.row_offset.data() + 1});
-  for (Index a = 0; a < n; ++a) matrix_.row_offset[a + 1] += matrix_.row_offset[a];
+  inclusive_scan(exec_, matrix_.row_offset.data() + 1, n);
   matrix_.col.resize(matrix_.row_offset[n]);
   matrix_.val.resize(matrix_.row_offset[n]);
   parallel_for(exec_, n, CompactRow{full.row_offset.data(), full.col.data(), full.val.data(),
@@ -91,8 +91,7 @@ Real IsphSolver<D>::time_step() const {
   const Real h = kernel_.h;
   const Real u = std::max(this->max_speed(), reference_velocity_);
   Real dt = settings_.courant * h / u;  // Eq. 49
-  Real nu_max = viscosity_;
-  for (Index a = 0; a < this->size(); ++a) nu_max = std::max(nu_max, viscosity_ + eddy_viscosity_[a]);
+  const Real nu_max = viscosity_ + parallel_reduce(exec_, this->size(), Real{0}, ScalarAt{eddy_viscosity_.data()}, MaxOf{});
   if (nu_max > 0) dt = std::min(dt, settings_.viscous_number * h * h / nu_max);
   if (settings_.max_dt > 0) dt = std::min(dt, settings_.max_dt);
   return dt;
@@ -117,10 +116,10 @@ void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
   // Eq. 11: r* = r^n + dt u^n (walls move with their prescribed velocity). The neighbours are found
   // at r*, where the particles may be re-sorted; r^n is then recovered as r* - dt u^n.
   timer.time("neighbours", [&] {
-    auto drift = [&](Index a) { return dt * (kind_[a] == FluidKind::fluid ? u_[a] : wall_velocity_[a]); };
-    for (Index a = 0; a < n; ++a) x_[a] = period_.wrap(x_[a] + drift(a));
+    parallel_for(exec_, n, Drift<D>{kind_.data(), u_.data(), wall_velocity_.data(), dt, true, period_, x_.data(), x_.data()});
     this->find_neighbours();
-    for (Index a = 0; a < n; ++a) x_old_[a] = x_[a] - drift(a);
+    parallel_for(exec_, n, Drift<D>{kind_.data(), u_.data(), wall_velocity_.data(), -dt, false, period_, x_.data(),
+                                    x_old_.data()});
   });
   const FluidView<D> v = this->view();
   FluidView<D> pv = v;  // the pressure stages' view: dry walls have no volume (PressureVolume)
@@ -145,13 +144,11 @@ void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
     parallel_for(exec_, n, SurfaceDetection<D>{v, thresholds_, settings_.free_surface, div_r_.data(),
                                                detected_.data(), alpha_.data()});
     parallel_for(exec_, n, NearSurfaceDetection<D>{v, detected_.data(), cls_.data()});
-    Index dirichlet = 0, first_fluid = -1;
-    for (Index a = 0; a < n; ++a) {
-      if (kind_[a] != FluidKind::fluid) continue;
-      if (first_fluid < 0 || id_[a] < id_[first_fluid]) first_fluid = a;
-      if (alpha_[a] == 0) ++dirichlet;
+    // p is defined up to a constant without a Dirichlet row: fix it at the fluid particle of lowest id.
+    if (parallel_reduce(exec_, n, Index{0}, DirichletRow{kind_.data(), alpha_.data()}, IntegerSum{}) == 0) {
+      const long long key = parallel_reduce(exec_, n, FluidIdKey::kNone, FluidIdKey{kind_.data(), id_.data()}, MinOf{});
+      if (key != FluidIdKey::kNone) pinned = static_cast<Index>(key & 0xffffffffLL);
     }
-    if (dirichlet == 0) pinned = first_fluid;  // p is defined up to a constant: fix it at one particle
     parallel_for(exec_, n, PressureVolume<D>{v, alpha_.data(), pressure_volume_.data()});
     if (kernel_correction_) parallel_for(exec_, n, GradientCorrection<D>{pv.op, L_.data()});
     parallel_for(exec_, n, SurfaceNormal<D>{pv, L_.data(), cls_.data(), alpha_.data(), surface_normal_.data()});
@@ -162,7 +159,7 @@ void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
     parallel_for(exec_, n, CorrectedDivergence<D>{pv.op, L_.data(), u_star_.data(), div_u_star_.data()});
     full_matrix_.rows = n;
     full_matrix_.row_offset.resize(n + 1);
-    for (Index a = 0; a <= n; ++a) full_matrix_.row_offset[a] = a + neighbours_.offset[a];
+    parallel_for(exec_, n + 1, PpeRowOffsets{neighbours_.offset.data(), full_matrix_.row_offset.data()});
     full_matrix_.col.resize(full_matrix_.row_offset[n]);
     full_matrix_.val.resize(full_matrix_.row_offset[n]);
     parallel_for(exec_, n, PpeRowFill<D>{pv, L_.data(), alpha_.data(), div_u_star_.data(), density_, dt, gravity_,
@@ -244,8 +241,8 @@ void IsphSolver<D>::boundary_pressure_force(bool pairwise, FluidKind target) {
 template <int D>
 void IsphSolver<D>::set_structure_acceleration(const std::vector<Vec<D>>& a) {
   Base::set_structure_acceleration(a);
-  for (Index k = 0; k < this->size(); ++k)
-    if (const Index s = structure_index_[k]; s >= 0) rhs_[k] = dot(gravity_ - a[s], wall_moment_[k]);  // PpeRowFill::wall_row
+  parallel_for(exec_, this->size(),
+               StructureRowRhs<D>{structure_index_.data(), a.data(), gravity_, wall_moment_.data(), rhs_.data()});
 }
 
 template <int D>

@@ -1,0 +1,48 @@
+// The launcher's collective primitives on the GPU against the host: parallel_reduce (max, min,
+// integer sum) and inclusive_scan, on fresh random data of several sizes.
+// Skipped without a CUDA device.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <vector>
+
+#include "core/device_memory.hpp"
+#include "core/parallel.hpp"
+#include "gpu_skip.hpp"
+
+using namespace isph;
+
+namespace {
+struct At {
+  const double* v;
+  ISPH_HD double operator()(Index i) const { return v[i]; }
+};
+struct IntAt {
+  const Index* v;
+  ISPH_HD Index operator()(Index i) const { return v[i]; }
+};
+}  // namespace
+
+TEST(DevicePrimitives, ReduceAndScanMatchTheHost) {
+  ISPH_SKIP_WITHOUT_GPU();
+  std::random_device seed;
+  std::mt19937 rng(seed());
+  std::normal_distribution<double> normal;
+  std::uniform_int_distribution<Index> small(0, 40);
+  for (Index n : {1, 1000, 1 << 20}) {
+    std::vector<double> v(n);
+    std::vector<Index> k(n);
+    for (Index i = 0; i < n; ++i) v[i] = normal(rng), k[i] = small(rng);
+    const DeviceArray<double> dv(v);
+    const DeviceArray<Index> dk(k);
+    const Exec gpu{Device::cuda}, host{};
+    EXPECT_EQ(parallel_reduce(gpu, n, -1e300, At{dv.data()}, MaxOf{}), parallel_reduce(host, n, -1e300, At{v.data()}, MaxOf{}));
+    EXPECT_EQ(parallel_reduce(gpu, n, 1e300, At{dv.data()}, MinOf{}), parallel_reduce(host, n, 1e300, At{v.data()}, MinOf{}));
+    EXPECT_EQ(parallel_reduce(gpu, n, Index{0}, IntAt{dk.data()}, IntegerSum{}),
+              parallel_reduce(host, n, Index{0}, IntAt{k.data()}, IntegerSum{}));
+    DeviceArray<Index> scanned(k);  // the scan works in place
+    inclusive_scan(gpu, scanned.data(), n);
+    inclusive_scan(host, k.data(), n);
+    EXPECT_EQ(scanned.to_host(), k) << n;
+  }
+}

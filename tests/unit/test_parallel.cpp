@@ -1,0 +1,53 @@
+// The launcher's collective primitives on the host: parallel_reduce with its exact combinations, and
+// the inclusive scan that turns counts into the ends of CSR rows.
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <numeric>
+#include <random>
+#include <vector>
+
+#include "core/parallel.hpp"
+
+using namespace isph;
+
+namespace {
+struct At {
+  const double* v;
+  double operator()(Index i) const { return v[i]; }
+};
+struct IntAt {
+  const Index* v;
+  Index operator()(Index i) const { return v[i]; }
+};
+}  // namespace
+
+// Over more elements than the launcher runs on one thread, with 1 and 2 threads: max and min are the
+// sequence's, the integer sum is exact, and an empty range gives the identity.
+TEST(Parallel, ReduceIsExactForAnyThreadCount) {
+  std::mt19937 rng(20261123);
+  std::normal_distribution<double> normal;
+  std::uniform_int_distribution<Index> small(0, 9);
+  const Index n = 10 * kMinParallelLoop + 7;
+  std::vector<double> v(n);
+  std::vector<Index> k(n);
+  for (Index i = 0; i < n; ++i) v[i] = normal(rng), k[i] = small(rng);
+  const int threads = omp_get_max_threads();
+  for (int t : {1, 2}) {
+    omp_set_num_threads(t);
+    EXPECT_EQ(parallel_reduce(Exec{}, n, -1e300, At{v.data()}, MaxOf{}), *std::max_element(v.begin(), v.end()));
+    EXPECT_EQ(parallel_reduce(Exec{}, n, 1e300, At{v.data()}, MinOf{}), *std::min_element(v.begin(), v.end()));
+    EXPECT_EQ(parallel_reduce(Exec{}, n, Index{0}, IntAt{k.data()}, IntegerSum{}), std::accumulate(k.begin(), k.end(), 0));
+    EXPECT_EQ(parallel_reduce(Exec{}, 0, -7.0, At{v.data()}, MaxOf{}), -7.0);
+  }
+  omp_set_num_threads(threads);
+}
+
+TEST(Parallel, InclusiveScanGivesRowEnds) {
+  std::vector<Index> counts{3, 0, 2, 5, 1}, ends = counts;
+  inclusive_scan(Exec{}, ends.data(), static_cast<Index>(ends.size()));
+  EXPECT_EQ(ends, (std::vector<Index>{3, 3, 5, 10, 11}));
+  inclusive_scan(Exec{}, ends.data(), 0);  // an empty range is left alone
+  EXPECT_EQ(ends[0], 3);
+}
