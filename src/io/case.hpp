@@ -174,6 +174,7 @@ struct FluidSpec {
   double surface_threshold = 0.0;            // div r below it: surface; 0: 1.4 (2D), 2.4 (3D)
   double surface_full = 0.0;                 // div r above it: Skillen alpha = 1; 0: 1.6 (2D), 2.6 (3D)
   std::string surface_pressure = "extrapolated";  // zero (p = 0 at surface particles) | extrapolated (p = 0 dx/2 beyond)
+  std::string escape = "remove";             // a fluid particle leaving the escape box: remove (and count) | stop the run
   ShiftingSpec shifting;
   PpeSolverSpec ppe;
   WcsphSpec wcsph;

@@ -464,6 +464,7 @@ void read_fields(Table& t, FluidSpec& f) {
   read_non_negative(t, "surface_threshold", f.surface_threshold);
   read_non_negative(t, "surface_full", f.surface_full);
   read_choice(t, "surface_pressure", f.surface_pressure, {"extrapolated", "zero"});
+  read_choice(t, "escape", f.escape, {"remove", "stop"});
   // Judged with the defaults in place of zeros, so that a threshold above the default full value is caught.
   const int d = t.ctx().dimension;
   const double threshold = f.surface_threshold > 0.0 ? f.surface_threshold : default_surface_threshold(d);

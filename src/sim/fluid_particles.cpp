@@ -62,25 +62,49 @@ template <int D>
 void FluidParticles<D>::find_neighbours() {
   cells_.build(x_, kernel_.support(), period_);
   if (neighbour_searches_++ % kSortInterval == 0) {
-    const std::vector<Index> order = cells_.order();
-    permute(x_, order);
-    permute(u_, order);
-    permute(p_, order);
-    permute(volume_, order);
-    permute(wall_depth_, order);
-    permute(kind_, order);
-    permute(wall_velocity_, order);
-    permute(wall_acceleration_, order);
-    permute(wall_normal_, order);
-    permute(reference_normal_, order);
-    permute(id_, order);
-    permute(structure_index_, order);
-    permute(motion_, order);
-    permute(reference_x_, order);
-    permute_work(order);
+    reorder(cells_.order());
     cells_.build(x_, kernel_.support(), period_);
   }
   neighbours_ = neighbour_list(cells_, size());
+}
+
+template <int D>
+void FluidParticles<D>::reorder(const std::vector<Index>& order) {
+  permute(x_, order);
+  permute(u_, order);
+  permute(p_, order);
+  permute(volume_, order);
+  permute(wall_depth_, order);
+  permute(kind_, order);
+  permute(wall_velocity_, order);
+  permute(wall_acceleration_, order);
+  permute(wall_normal_, order);
+  permute(reference_normal_, order);
+  permute(id_, order);
+  permute(structure_index_, order);
+  permute(motion_, order);
+  permute(reference_x_, order);
+  permute(boundary_force_, order);
+  permute_work(order);
+}
+
+template <int D>
+Index FluidParticles<D>::remove_fluid_outside(const Vec<D>& lo, const Vec<D>& hi) {
+  std::vector<Index> keep;
+  keep.reserve(x_.size());
+  for (Index a = 0; a < size(); ++a) {
+    bool outside = false;
+    for (int d = 0; d < D; ++d) outside = outside || x_[a][d] < lo[d] || x_[a][d] > hi[d];
+    if (kind_[a] != FluidKind::fluid || !outside) keep.push_back(a);
+  }
+  const Index removed = size() - static_cast<Index>(keep.size());
+  if (removed > 0) {
+    reorder(keep);
+    fluid_count_ -= removed;
+    cells_.build(x_, kernel_.support(), period_);  // no stale list between now and the next step
+    neighbours_ = neighbour_list(cells_, size());
+  }
+  return removed;
 }
 
 // Moving walls over [t, t + dt]: from x(t) they move by their chord of the step, with the velocity

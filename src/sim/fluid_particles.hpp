@@ -18,10 +18,12 @@
 
 namespace isph {
 
-// v[k] = v_old[order[k]]: per-particle data follows a re-sort of the particles.
+// v[k] = v_old[order[k]] for k < order.size(), and v gets order.size() elements: per-particle data
+// follows a re-sort of the particles (order a permutation) or a removal (order the kept particles).
 template <class T>
 void permute(std::vector<T>& v, const std::vector<Index>& order) {
   std::vector<T> copy(v);
+  v.resize(order.size());
   for (std::size_t k = 0; k < order.size(); ++k) v[k] = copy[order[k]];
 }
 
@@ -101,6 +103,9 @@ class FluidParticles {
   Real front(Real height) const;
   // First particle with a non-finite position, velocity or pressure, or -1.
   Index first_non_finite() const;
+  // Removes the fluid particles outside the box [lo, hi] (wall and structure particles stay); returns
+  // how many. The others keep their order and stable ids.
+  Index remove_fluid_outside(const Vec<D>& lo, const Vec<D>& hi);
 
   // Structure particles follow the TLSPH solver: positions, velocities and deformation gradients,
   // indexed as in the TLSPH solver. The surface normals turn with F: n = F^{-T} N / |F^{-T} N|.
@@ -117,6 +122,8 @@ class FluidParticles {
   // Cell list and CSR neighbour list at the current positions; every kSortInterval calls the particles
   // are first re-sorted by cell (with permute_work for the model's own per-particle arrays).
   void find_neighbours();
+  // Reorders (or, from remove_fluid_outside, shrinks) the particle state: v[k] = v[order[k]].
+  void reorder(const std::vector<Index>& order);
   virtual void permute_work(const std::vector<Index>& order) = 0;
   // Moving walls over [t, t + dt] (t = time_).
   void prescribe_walls(Real dt);

@@ -71,6 +71,18 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
   rhs_.assign(n, 0);
 }
 
+// The work arrays are refilled every step before they are read; they follow the particles anyway, so
+// that their sizes follow a removal and the snapshot fields (classes, div r, shift) stay aligned.
+template <int D>
+void IsphSolver<D>::permute_work(const std::vector<Index>& order) {
+  for (auto* v : {&x_old_, &u_star_, &u_new_, &grad_p_, &surface_normal_, &shift_, &wall_moment_}) permute(*v, order);
+  for (auto* v : {&L_, &Bhat_, &grad_u_, &L_structure_}) permute(*v, order);
+  for (auto* v : {&div_r_, &alpha_, &div_u_star_, &eddy_viscosity_, &pressure_volume_}) permute(*v, order);
+  permute(rhs_, order);  // p_trial_ is a copy of p_ from each solve on
+  permute(detected_, order);
+  permute(cls_, order);
+}
+
 template <int D>
 void IsphSolver<D>::compress_matrix() {
   const CsrMatrix& full = full_matrix_;

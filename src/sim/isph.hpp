@@ -55,7 +55,7 @@ class IsphSolver : public FluidParticles<D> {
       Base::wall_normal_, Base::structure_index_, Base::boundary_force_, Base::neighbours_, Base::motions_,
       Base::time_, Base::wall_work_, Base::density_, Base::viscosity_, Base::kernel_, Base::period_, Base::gravity_,
       Base::settings_, Base::has_structure_, Base::exec_, Base::id_, Base::reference_velocity_;
-  void permute_work(const std::vector<Index>&) override {}  // its work arrays are refilled every step
+  void permute_work(const std::vector<Index>& order) override;
   void compress_matrix();
   // The pressure force per unit volume on the boundary particles of one kind, into boundary_force_.
   void boundary_pressure_force(bool pairwise, FluidKind target);

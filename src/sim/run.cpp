@@ -2,11 +2,13 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 
 #include "io/output.hpp"
@@ -319,8 +321,9 @@ template <int D>
 void write_fluid_snapshot(SnapshotWriter& writer, double t, const FluidParticles<D>& solver,
                           const TlsphSolver<D>* structure) {
   const Index n = solver.size();
-  std::vector<Index> slot(n);
-  for (Index a = 0; a < n; ++a) slot[solver.id()[a]] = a;
+  std::vector<Index> slot(n);  // particles by stable id (ids of removed particles are missing)
+  std::iota(slot.begin(), slot.end(), 0);
+  std::sort(slot.begin(), slot.end(), [&](Index a, Index b) { return solver.id()[a] < solver.id()[b]; });
   std::vector<std::array<double, 3>> pos(n);
   SnapshotField vel{"velocity", 3, std::vector<double>(3 * n, 0.0)};
   SnapshotField p{"pressure", 1, std::vector<double>(n)}, kind{"kind", 1, std::vector<double>(n)},
@@ -339,7 +342,7 @@ void write_fluid_snapshot(SnapshotWriter& writer, double t, const FluidParticles
     put_vector(vel, k, solver.velocity()[a]);
     p.data[k] = solver.pressure()[a];
     kind.data[k] = static_cast<double>(solver.kind()[a]);  // 0 fluid, 1 wall, 2 structure
-    id.data[k] = k;
+    id.data[k] = solver.id()[a];
   }
   std::vector<SnapshotField> fields{vel, p, kind, id};
   solver.add_snapshot_fields(slot, fields);
@@ -428,9 +431,10 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
 
   record(0);
   if (frame.writes_snapshots()) snapshot(0);
-  long long step = 0, iterations = 0, max_iterations = 0, failures = 0;
+  long long step = 0, iterations = 0, max_iterations = 0, failures = 0, removed_total = 0;
+  const Index initial_fluid = solver.fluid_count();
   double worst_residual = 0;
-  Real t = 0, first_dt = 0;
+  Real t = 0, first_dt = 0, first_removal = 0;
   const Real eps = 1e-12 * spec.end_time;
   while (t < spec.end_time - eps) {
     // Land on end_time without a sliver of a step (the PPE's source div u*/dt is sensitive to tiny dt):
@@ -477,10 +481,17 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
                     "reached %.4g m/s",
                     dt, dt / first_dt, t, step, solver.max_speed());
       frame.diverge(buf);
-    } else if (const Index out = find_escape(solver, scene); out >= 0) {
+    } else if (const Index out = find_escape(solver, scene); out >= 0 && spec.fluid.escape == "stop") {
       std::snprintf(buf, sizeof buf, "fluid particle id %d escaped the tank at t = %.6g s (step %lld), at (%g, %g)",
                     solver.id()[out], t, step, solver.position()[out][0], solver.position()[out][1]);
       frame.diverge(buf);
+    } else if (out >= 0) {
+      const Index removed = solver.remove_fluid_outside(scene.domain_lo, scene.domain_hi);
+      if (removed_total == 0) first_removal = t;
+      removed_total += removed;
+      if (opt.progress)
+        std::fprintf(stderr, "[%s] t = %.6g s: %d fluid particle(s) left the escape box and were removed (%lld so far)\n",
+                     spec.name.c_str(), t, removed, removed_total);
     }
     if (frame.result.status != "completed") {
       record(t);
@@ -503,7 +514,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   JsonObject perf;
   perf.set("threads", static_cast<long long>(omp_get_max_threads()))
       .set("mean_fluid_dt", step > 0 ? t / step : 0.0)
-      .set("fluid_particle_steps_per_s", stepping > 0 ? double(solver.fluid_count()) * step / stepping : 0.0);
+      .set("fluid_particle_steps_per_s", stepping > 0 ? double(initial_fluid) * step / stepping : 0.0);
   if (coupling) perf.set("coupling", coupling->summary());
   if (wcsph) {
     JsonObject w;
@@ -515,7 +526,10 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
              wcsph->advection_steps() > 0 ? double(wcsph->acoustic_steps()) / wcsph->advection_steps() : 0.0);
     perf.set("wcsph", w);
   }
-  frame.finish(D, particle_counts(solver.fluid_count(), solver.wall_count(), coupling ? coupling->solver().size() : 0),
+  JsonObject particles = particle_counts(initial_fluid, solver.wall_count(), coupling ? coupling->solver().size() : 0);
+  particles.set("fluid_removed", removed_total);
+  if (removed_total > 0) particles.set("fluid_first_removed_at", first_removal);
+  frame.finish(D, particles,
                step, coupling ? coupling->substeps() : 0, t, timer, ppe, perf);
   return frame.result;
 }

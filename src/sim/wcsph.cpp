@@ -80,9 +80,9 @@ WcsphSolver<D>::WcsphSolver(FluidSetup<D> s)
 
 template <int D>
 void WcsphSolver<D>::permute_work(const std::vector<Index>& order) {
-  permute(rho_, order);
-  permute(acceleration_, order);
-  permute(viscous_, order);
+  for (auto* v : {&rho_, &drho_dt_}) permute(*v, order);
+  for (auto* v : {&acceleration_, &viscous_}) permute(*v, order);
+  for (auto* v : {&L_, &Bhat_, &grad_u_}) permute(*v, order);
 }
 
 template <int D>

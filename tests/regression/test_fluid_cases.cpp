@@ -218,3 +218,44 @@ TEST(BadFluidInput, FailedPressureSolveStopsTheRun) {
   EXPECT_NE(s.find("iterations"), std::string::npos) << s;
   EXPECT_NE(s.find("\"failures\": 1"), std::string::npos) << s;
 }
+
+// A block of water thrown upwards out of a tank (9 particles at 8 m/s, far above the walls) leaves the
+// escape box. By default the run removes it and goes on (summary.json counts the removed particles and
+// when the first left; the water in the tank keeps its hydrostatic floor pressure); with
+// fluid.escape = "stop" the run stops there as diverged (exit status 3).
+TEST(EscapedParticles, RemovedAndCountedOrTheRunStops) {
+  const fs::path out = fresh_dir("escape");
+  fs::create_directories(out);
+  const fs::path case_file = out / "thrown.toml";
+  {
+    std::ofstream c(case_file);
+    c << "name = \"thrown\"\ndimension = 2\ndx = 0.05\nend_time = 0.2\ngravity = [0.0, -9.81]\n"
+         "[stages]\nstructure = false\nfluid = true\n[output]\ninterval = 0.01\n"
+         "[[materials]]\nname = \"water\"\nmodel = \"newtonian\"\ndensity = 1000.0\nviscosity = 1.0e-6\n"
+         "[[bodies]]\nname = \"water\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
+         "shape = { type = \"rectangle\", min = [0.0, 0.0], max = [1.0, 0.5] }\n"
+         "[[bodies]]\nname = \"drop\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
+         "shape = { type = \"rectangle\", min = [0.425, 0.6], max = [0.575, 0.75] }\n"
+         "initial_velocity = { type = \"uniform\", value = [0.0, 8.0] }\n"
+         "[[bodies]]\nname = \"floor\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [-0.15, -0.15], max = [1.15, 0.0] }\n"
+         "[[bodies]]\nname = \"left\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [-0.15, 0.0], max = [0.0, 0.8] }\n"
+         "[[bodies]]\nname = \"right\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [1.0, 0.0], max = [1.15, 0.8] }\n"
+         "[[probes]]\nname = \"bottom\"\ntype = \"pressure\"\npoint = [0.5, 0.05]\n";
+  }
+  const auto removed = isph("run " + case_file.string() + " --out " + (out / "remove").string());
+  ASSERT_EQ(removed.status, 0) << removed.output;
+  EXPECT_NE(removed.output.find("were removed"), std::string::npos) << removed.output;
+  const std::string summary = read_file(out / "remove" / "summary.json");
+  EXPECT_EQ(json_number(summary, "fluid_removed"), 9) << summary;
+  // The box ends 1.8 m up (the particles' extent, 2h more, and the extent again above); the block's top
+  // row, thrown from 0.725 m at 8 m/s, reaches it at 0.147 s.
+  EXPECT_GT(json_number(summary, "fluid_first_removed_at"), 0.12);
+  EXPECT_LT(json_number(summary, "fluid_first_removed_at"), 0.17);
+  auto p = read_csv(out / "remove" / "probes.csv");
+  EXPECT_NEAR(p["bottom.p"].back(), 1000 * 9.81 * 0.45, 0.05 * 1000 * 9.81 * 0.45);
+
+  const auto stopped = isph("run " + case_file.string() + " --quiet --out " + (out / "stop").string() +
+                            " --set fluid.escape=stop");
+  EXPECT_EQ(stopped.status, 3) << stopped.output;
+  EXPECT_NE(read_file(out / "stop" / "summary.json").find("escaped the tank"), std::string::npos);
+}
