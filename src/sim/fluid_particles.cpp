@@ -89,13 +89,13 @@ void FluidParticles<D>::reorder(const std::vector<Index>& order) {
 }
 
 template <int D>
-Index FluidParticles<D>::remove_fluid_outside(const Vec<D>& lo, const Vec<D>& hi) {
+Index FluidParticles<D>::remove_fluid_outside(const Vec<D>& lo, const Vec<D>& hi, const Vec<D>& up, Real rim) {
   std::vector<Index> keep;
   keep.reserve(x_.size());
   for (Index a = 0; a < size(); ++a) {
     bool outside = false;
     for (int d = 0; d < D; ++d) outside = outside || x_[a][d] < lo[d] || x_[a][d] > hi[d];
-    if (kind_[a] != FluidKind::fluid || !outside) keep.push_back(a);
+    if (kind_[a] != FluidKind::fluid || !outside || !(dot(x_[a], up) > rim)) keep.push_back(a);
   }
   const Index removed = size() - static_cast<Index>(keep.size());
   if (removed > 0) {

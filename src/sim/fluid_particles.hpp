@@ -103,9 +103,10 @@ class FluidParticles {
   Real front(Real height) const;
   // First particle with a non-finite position, velocity or pressure, or -1.
   Index first_non_finite() const;
-  // Removes the fluid particles outside the box [lo, hi] (wall and structure particles stay); returns
-  // how many. The others keep their order and stable ids.
-  Index remove_fluid_outside(const Vec<D>& lo, const Vec<D>& hi);
+  // Removes the fluid particles outside the box [lo, hi] that are also above `rim` along `up` (thrown
+  // out over the walls; wall and structure particles stay); returns how many. The others keep their
+  // order and stable ids.
+  Index remove_fluid_outside(const Vec<D>& lo, const Vec<D>& hi, const Vec<D>& up, Real rim);
 
   // Structure particles follow the TLSPH solver: positions, velocities and deformation gradients,
   // indexed as in the TLSPH solver. The surface normals turn with F: n = F^{-T} N / |F^{-T} N|.

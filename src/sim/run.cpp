@@ -481,17 +481,22 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
                     "reached %.4g m/s",
                     dt, dt / first_dt, t, step, solver.max_speed());
       frame.diverge(buf);
-    } else if (const Index out = find_escape(solver, scene); out >= 0 && spec.fluid.escape == "stop") {
-      std::snprintf(buf, sizeof buf, "fluid particle id %d escaped the tank at t = %.6g s (step %lld), at (%g, %g)",
-                    solver.id()[out], t, step, solver.position()[out][0], solver.position()[out][1]);
-      frame.diverge(buf);
-    } else if (out >= 0) {
-      const Index removed = solver.remove_fluid_outside(scene.domain_lo, scene.domain_hi);
-      if (removed_total == 0) first_removal = t;
-      removed_total += removed;
-      if (opt.progress)
-        std::fprintf(stderr, "[%s] t = %.6g s: %d fluid particle(s) left the escape box and were removed (%lld so far)\n",
-                     spec.name.c_str(), t, removed, removed_total);
+    } else if (Index out = find_escape(solver, scene); out >= 0) {
+      // Thrown out over the walls: removed (fluid.escape = "remove"); through a wall or the floor: diverged.
+      if (spec.fluid.escape == "remove") {
+        const Index removed = solver.remove_fluid_outside(scene.domain_lo, scene.domain_hi, scene.up, scene.rim);
+        if (removed > 0 && removed_total == 0) first_removal = t;
+        removed_total += removed;
+        if (removed > 0 && opt.progress)
+          std::fprintf(stderr, "[%s] t = %.6g s: %d fluid particle(s) thrown out over the walls were removed (%lld so far)\n",
+                       spec.name.c_str(), t, removed, removed_total);
+        out = find_escape(solver, scene);
+      }
+      if (out >= 0) {
+        std::snprintf(buf, sizeof buf, "fluid particle id %d escaped the tank at t = %.6g s (step %lld), at (%g, %g)",
+                      solver.id()[out], t, step, solver.position()[out][0], solver.position()[out][1]);
+        frame.diverge(buf);
+      }
     }
     if (frame.result.status != "completed") {
       record(t);

@@ -360,6 +360,15 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, std::
   // (against gravity) by its own size.
   for (Index a = 0; a < n; ++a)
     for (int d = 0; d < D; ++d) lo[d] = std::min(lo[d], f.x[a][d]), hi[d] = std::max(hi[d], f.x[a][d]);
+  if (g_norm > 0) {
+    scene.up = (-1.0 / g_norm) * g;
+    scene.rim = -std::numeric_limits<Real>::max();
+    for (int corner = 0; corner < (1 << D); ++corner) {  // the box's highest corner
+      Vec<D> c;
+      for (int d = 0; d < D; ++d) c[d] = (corner >> d) & 1 ? hi[d] : lo[d];
+      scene.rim = std::max(scene.rim, dot(c, scene.up));
+    }
+  }
   for (int d = 0; d < D; ++d) {
     const Real margin = f.kernel.support();
     scene.domain_lo[d] = period.axis[d] ? -std::numeric_limits<Real>::max() : lo[d] - margin;
