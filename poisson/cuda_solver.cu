@@ -83,6 +83,8 @@ class CudaOps {
     buffer_.grow_to(bytes);
   }
 
+  CsrView matrix() const { return {rows_, row_offset_.data(), col_.data(), val_.data()}; }
+
   void spmv(const Vector& x, Vector& y) {
     check(cusparseDnVecSetValues(x_, const_cast<double*>(x.data())), "set vector");
     check(cusparseDnVecSetValues(y_, y.data()), "set vector");

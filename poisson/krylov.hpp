@@ -13,6 +13,7 @@
 //   static double* data(Vector&); static const double* data(const Vector&);
 //   void upload(const std::vector<double>&, Vector&); void download(const Vector&, std::vector<double>&);
 //   void set_matrix(const CsrMatrix&);          // keeps a copy of A in the backend (reusing its storage)
+//   CsrView matrix() const;                     // that copy, as pointers in the backend's memory
 //   void spmv(const Vector& x, Vector& y);      // y = A x
 //   double dot(const Vector& x, const Vector& y);
 //   void release();                             // done with the copy of A
@@ -54,6 +55,33 @@ struct CsrRowProduct {
   }
 };
 
+// A CSR matrix as pointers, in whichever memory holds it.
+struct CsrView {
+  int rows = 0;
+  const int* row_offset = nullptr;
+  const int* col = nullptr;
+  const double* val = nullptr;
+};
+
+// dinv_i = 1 / A_ii, or 0 where row i has no (or a zero) diagonal entry.
+struct InverseDiagonal {
+  CsrView A;
+  double* dinv;
+  ISPH_HD void operator()(Index i) const {
+    double diag = 0;
+    for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k)
+      if (A.col[k] == i) diag = A.val[k];
+    dinv[i] = diag != 0 ? 1.0 / diag : 0.0;
+  }
+};
+
+// i where dinv_i = 0, else the largest Index (its minimum is the first row without a diagonal).
+struct RowWithoutDiagonal {
+  const double* dinv;
+  ISPH_HD Index operator()(Index i) const { return dinv[i] == 0 ? i : kNoRow; }
+  static constexpr Index kNoRow = 0x7fffffff;
+};
+
 // The polynomial preconditioner: kPolynomialSweeps damped-Jacobi sweeps from z = 0,
 //   z_0 = ω D⁻¹ r,  z_{k+1} = z_k + ω D⁻¹ (r − A z_k),
 // i.e. z = p(D⁻¹A) D⁻¹ r with p(λ) = (1 − (1 − ωλ)^m) / λ (a truncated Neumann series, Saad 2003
@@ -77,10 +105,18 @@ class Bicgstab {
         work_(ops.vector(n)) {}
 
   int size() const { return n_; }
-  // The preconditioner of the next runs; inverse_diagonal = D⁻¹ of the current matrix (ones for none).
-  void set_preconditioner(Preconditioner m, const std::vector<double>& inverse_diagonal) {
+  // The preconditioner of the next runs, for the backend's current matrix (D⁻¹ is taken where the
+  // matrix is). Returns an empty string, or why it cannot be built.
+  std::string set_preconditioner(Preconditioner m) {
     m_ = m;
-    ops_.upload(inverse_diagonal, dinv_);
+    if (m == Preconditioner::none) return "";
+    const CsrView A = ops_.matrix();
+    parallel_for(ops_.exec(), n_, InverseDiagonal{A, Ops::data(dinv_)});
+    const Index bad = parallel_reduce(ops_.exec(), n_, RowWithoutDiagonal::kNoRow,
+                                      RowWithoutDiagonal{Ops::data(dinv_)}, MinOf{});
+    if (bad != RowWithoutDiagonal::kNoRow)
+      return "zero diagonal in row " + std::to_string(bad) + ": the Jacobi scaling cannot be built";
+    return "";
   }
 
   // Iterates from x until ||r|| <= tol_abs or max_iterations; x is in the backend's memory. Returns the
@@ -199,22 +235,13 @@ class OwnKrylovSolver final : public KrylovSolverFrame {
     const P m = settings_.preconditioner == "jacobi"       ? P::jacobi
                 : settings_.preconditioner == "polynomial" ? P::polynomial
                                                            : P::none;
-    std::vector<double> dinv(A.rows, 1.0);
-    if (m != P::none)
-      for (int i = 0; i < A.rows; ++i) {
-        double diag = 0;
-        for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k)
-          if (A.col[k] == i) diag = A.val[k];
-        if (diag == 0) return "zero diagonal in row " + std::to_string(i) + ": the Jacobi scaling cannot be built";
-        dinv[i] = 1.0 / diag;
-      }
     ops_.set_matrix(A);
     if (!krylov_ || krylov_->size() != A.rows) {  // work vectors only when the size changes
       krylov_.emplace(ops_, A.rows);
       b_ = ops_.vector(A.rows);
       x_ = ops_.vector(A.rows);
     }
-    krylov_->set_preconditioner(m, dinv);
+    if (std::string why = krylov_->set_preconditioner(m); !why.empty()) return why;
     update_rhs(b);
     return "";
   }

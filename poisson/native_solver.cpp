@@ -19,6 +19,7 @@ class HostOps {
   void upload(const std::vector<double>& h, Vector& v) const { v = h; }
   void download(const Vector& v, std::vector<double>& h) const { h = v; }
   void set_matrix(const CsrMatrix& A) { A_ = A; }
+  CsrView matrix() const { return {A_.rows, A_.row_offset.data(), A_.col.data(), A_.val.data()}; }
   void spmv(const Vector& x, Vector& y) const {
     parallel_for(exec(), A_.rows, CsrRowProduct{A_.row_offset.data(), A_.col.data(), A_.val.data(), x.data(), y.data()});
   }

@@ -363,6 +363,21 @@ TEST(LinearSolver, ZeroRowIsReportedNotConverged) {
   }
 }
 
+// The own-Krylov backends take D⁻¹ where their copy of the matrix is: a row whose diagonal entry is
+// zero makes the Jacobi scalings (jacobi, polynomial) fail at set-up, naming the first such row.
+TEST(LinearSolver, ZeroDiagonalNamesTheRowForTheJacobiScalings) {
+  auto m = manufactured(10);
+  for (int row : {77, 23})
+    for (int k = m.A.row_offset[row]; k < m.A.row_offset[row + 1]; ++k)
+      if (m.A.col[k] == row) m.A.val[k] = 0.0;
+  for (const char* p : {"jacobi", "polynomial"}) {
+    std::vector<double> x(m.b.size(), 0.0);
+    const SolveReport r = make_linear_solver(settings("native", "bicgstab", p))->solve(m.A, m.b, x);
+    EXPECT_FALSE(r.converged) << p;
+    EXPECT_NE(r.message.find("zero diagonal in row 23:"), std::string::npos) << r.message;
+  }
+}
+
 TEST(LinearSolver, NanOrInfInputIsReportedNotConverged) {
   const auto m = manufactured(8);
   for (const auto& c : all_combinations()) {
