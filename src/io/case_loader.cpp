@@ -413,17 +413,27 @@ void read_fields(Table& t, ShiftingSpec& s) {
   t.read("taylor_correction", s.taylor_correction);
 }
 
+// Every option any backend offers (poisson/linear_solver.hpp), in catalogue order.
+template <class Options>
+Choices any_backend(Options options) {
+  Choices all;
+  for (const std::string& b : solver_backends())
+    for (const std::string& o : options(b))
+      if (std::find(all.begin(), all.end(), o) == all.end()) all.push_back(o);
+  return all;
+}
+
 void read_fields(Table& t, PpeSolverSpec& p) {
-  // The options of every backend (poisson/linear_solver.hpp), then those of the chosen one.
+  // The options of every backend, then those of the chosen one.
   const bool backend_ok = read_choice(t, "backend", p.backend, solver_backends());
-  if (read_choice(t, "method", p.method, {"bicgstab", "gmres"}) && backend_ok) {
+  if (read_choice(t, "method", p.method, any_backend(solver_methods)) && backend_ok) {
     const Choices& allowed = solver_methods(p.backend);
     if (std::find(allowed.begin(), allowed.end(), p.method) == allowed.end())
       t.problem("method", quote(p.method) + " is not available with backend = " + quote(p.backend) + "; " +
                               one_of(allowed));
   }
   if (!t.has("preconditioner")) p.preconditioner = solver_preconditioners(p.backend).front();
-  if (read_choice(t, "preconditioner", p.preconditioner, {"jacobi", "ilu", "none", "boomeramg", "polynomial"}) &&
+  if (read_choice(t, "preconditioner", p.preconditioner, any_backend(solver_preconditioners)) &&
       backend_ok && t.has("preconditioner")) {
     const Choices& allowed = solver_preconditioners(p.backend);
     if (std::find(allowed.begin(), allowed.end(), p.preconditioner) == allowed.end())

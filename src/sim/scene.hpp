@@ -39,8 +39,8 @@ struct Scene {
   Real body_extent = 0;              // largest body size, for the divergence test
   Vec<D> domain_lo, domain_hi;       // fluid: a particle leaving this box has escaped
   Vec<D> up = Vec<D>::zero();        // against gravity (unit; zero without gravity)
-  Real rim = 0;                      // the highest particle of the set-up along `up` (walls' paths included): an
-                                     // escaped particle above it was thrown out over the walls
+  Real rim = 0;                      // the highest corner, along `up`, of the box of the set-up's particles and
+                                     // walls' paths: an escaped particle above it was thrown out over the walls
 };
 
 // Fills every body on its lattice, applies clamps, initial velocities and loads, and places the

@@ -848,7 +848,7 @@ fallback = "eigen"
                                             "backend = \"hypre\"; must be one of \"boomeramg\", \"jacobi\", "
                                             "\"none\""});
   p = problems(path, {"fluid.ppe.preconditioner=amg"});
-  EXPECT_TRUE(reports(p, path + ": fluid.ppe.preconditioner: must be one of \"jacobi\", \"ilu\", \"none\", "
+  EXPECT_TRUE(reports(p, path + ": fluid.ppe.preconditioner: must be one of \"ilu\", \"jacobi\", \"none\", "
                                 "\"boomeramg\", \"polynomial\" (got \"amg\")"));
 
   // The project's own BiCGSTAB (native on the host, cuda on the GPU): its preconditioners, no GMRES.
