@@ -48,33 +48,46 @@ struct BoundaryPressureForce {
   }
 };
 
-// Fluid particles beside a structure: whether the particle lies inside the structure, and its distance
-// to the nearest structure particle (or a large value). Inside means that the structure's kernel sum
-// (its colour function) at the particle, c_a = sum_s V_s W(x_a - x_s), exceeds 1/2, its value on a flat
-// face of the body: the particle has crossed the structure's surface, which lies dx/2 beyond the outer
-// particles. The test needs no surface normals. A test by the faces of the nearby surface particles
-// (behind every face within 1.5 dx) failed at convex corners: with only the corner particle in reach,
-// water running out a full dx below the elastic gate's end was behind the plane of that particle's side
-// face and was counted inside (tests/unit/test_structure_contact.cpp). Near a convex corner, where c
-// is 1/4 on the surface, a particle is counted once it is about dx/2 in.
+// Fluid particles beside a body (the structure, or the walls): whether the particle lies inside the
+// body, and its distance to the nearest of the body's particles (or a large value). Inside means both
+//  - the body's kernel sum (its colour function) at the particle, c_a = sum_b V_b W(x_a - x_b), exceeds
+//    1/2, its value on a flat face: the particle has crossed the body's surface, which lies dx/2 beyond
+//    the outer particles; and
+//  - the particle is behind the surface face of the nearest body particle b: (x_a - x_b) . n_b < d_b,
+//    with n_b the outward normal and d_b the depth of b below the surface (from the set-up).
+// Each test alone fails at one kind of corner (tests/unit/test_structure_contact.cpp):
+//  - the face test at convex corners: with only the corner particle in reach, water running out a full
+//    dx below the elastic gate's end was behind the plane of that particle's side face;
+//  - the colour test in concave corners, where c is 3/4 at the corner point: a fluid particle pressed
+//    to 0.35 dx from both faces of a tank's corner has c = 1/2.
+// Inside a body a particle is behind every face and c > 1/2 except within about dx/2 of a convex
+// corner (c = 1/4 at the corner), where it is counted once it is about dx/2 in.
+// The depth of a particle inside is how far it lies behind that face, d_b - (x_a - x_b) . n_b (0 outside).
 template <int D>
-struct StructureContact {
+struct BodyContact {
   FluidView<D> v;
+  FluidKind body;
   unsigned char* inside;
   Real* distance;
+  Real* depth;
   ISPH_HD void operator()(Index a) const {
     inside[a] = 0;
     distance[a] = 1e300;
+    depth[a] = 0;
     if (!v.is_fluid(a)) return;
     Real colour = 0;
+    Index nearest = -1;
     for (Index k = v.op.nbr_offset[a]; k < v.op.nbr_offset[a + 1]; ++k) {
-      const Index s = v.op.nbr[k];
-      if (!v.is_structure(s)) continue;
-      const Real r = sqrt(norm2(v.op.r(a, s)));
-      distance[a] = fmin(distance[a], r);
-      colour += v.op.volume[s] * v.op.kernel.value(r);
+      const Index b = v.op.nbr[k];
+      if (v.kind[b] != body) continue;
+      const Real r = sqrt(norm2(v.op.r(a, b)));
+      if (r < distance[a]) distance[a] = r, nearest = b;
+      colour += v.op.volume[b] * v.op.kernel.value(r);
     }
-    inside[a] = colour > 0.5;
+    if (!(colour > 0.5)) return;
+    const Real behind = -v.beyond_surface(a, nearest);
+    inside[a] = behind > 0;
+    if (inside[a]) depth[a] = behind;
   }
 };
 

@@ -66,8 +66,7 @@ StructureCoupling<D>::StructureCoupling(TlsphSetup<D> setup, const CouplingSpec&
       stable_dt_(solver_.stable_dt(courant)),
       g_norm_(std::sqrt(norm2(gravity))),
       interpolate_(coupling.substep_interaction == "interpolated"),
-      quasi_newton_(coupling.reuse_steps),
-      min_distance_(std::numeric_limits<Real>::infinity()) {
+      quasi_newton_(coupling.reuse_steps) {
   const Index n = solver_.size();
   for (auto* v : {&force_density_, &interaction_, &a_guess_, &a_new_, &v_new_})
     v->assign(n, Vec<D>::zero());
@@ -192,15 +191,7 @@ void StructureCoupling<D>::account_step(Real work, const Vec<D>& force, int coun
 
 template <int D>
 void StructureCoupling<D>::record_contact(FluidParticles<D>& fluid, PhaseTimer& timer) {
-  timer.time("interaction", [&] {
-    const InteractionReport<D> contact = fluid.structure_contact();
-    if (contact.fluid_inside > 0) {
-      if (steps_with_inside_++ == 0) first_inside_time_ = fluid.time();
-      if (contact.fluid_inside > max_inside_) worst_inside_time_ = fluid.time(), worst_inside_at_ = contact.inside_at;
-    }
-    max_inside_ = std::max(max_inside_, contact.fluid_inside);
-    min_distance_ = std::min(min_distance_, contact.min_distance);
-  });
+  timer.time("interaction", [&] { contact_.add(fluid.contact(FluidKind::structure), fluid.time()); });
 }
 
 template <int D>
@@ -215,16 +206,9 @@ JsonObject StructureCoupling<D>::summary() const {
       .set("mean_interface_iterations", steps_ > 0 ? double(iterations_) / steps_ : 0.0)
       .set("max_interface_iterations", max_iterations_seen_)
       .set("unconverged_steps", unconverged_)
-      .set("fluid_inside_structure_max", static_cast<long long>(max_inside_))
-      .set("steps_with_fluid_inside", steps_with_inside_)
-      .set("min_fluid_structure_distance", std::isfinite(min_distance_) ? min_distance_ : -1.0)
       .set("mean_force_on_structure", mean_force)
       .set("interaction_work", interaction_work_);
-  if (steps_with_inside_ > 0) {
-    JsonObject at;
-    for (int d = 0; d < D; ++d) at.set(d == 0 ? "x" : d == 1 ? "y" : "z", worst_inside_at_[d]);
-    o.set("first_fluid_inside_time", first_inside_time_).set("max_fluid_inside_time", worst_inside_time_).set("max_fluid_inside_at", at);
-  }
+  contact_.write(o, "structure");
   return o;
 }
 

@@ -119,11 +119,7 @@ class StructureCoupling {
   InterfaceQuasiNewton quasi_newton_;
   long long steps_ = 0, substeps_ = 0, iterations_ = 0, unconverged_ = 0;
   int max_substeps_ = 0, max_iterations_seen_ = 0;
-  Index max_inside_ = 0;
-  long long steps_with_inside_ = 0;
-  Real first_inside_time_ = 0, worst_inside_time_ = 0;  // first step with fluid inside; the step of the most
-  Vec<D> worst_inside_at_ = Vec<D>::zero();            // one of the particles inside at that step
-  Real min_distance_;
+  ContactRecord<D> contact_;  // fluid inside the structure, step by step
   Vec<D> force_sum_ = Vec<D>::zero();  // sum over steps of the force on the structure, for its mean
   Real interaction_work_ = 0;
 };

@@ -159,21 +159,48 @@ void FluidParticles<D>::set_structure_acceleration(const std::vector<Vec<D>>& a)
 }
 
 template <int D>
-InteractionReport<D> FluidParticles<D>::structure_contact() {
+InteractionReport<D> FluidParticles<D>::contact(FluidKind body) {
   const Index n = size();
   inside_.resize(n);
-  structure_distance_.resize(n);
-  parallel_for(exec_, n, StructureContact<D>{view(), inside_.data(), structure_distance_.data()});
+  body_distance_.resize(n);
+  body_depth_.resize(n);
+  parallel_for(exec_, n, BodyContact<D>{view(), body, inside_.data(), body_distance_.data(), body_depth_.data()});
   InteractionReport<D> report;
   report.min_distance = std::numeric_limits<Real>::infinity();
   Index first_id = -1;
   for (Index k = 0; k < n; ++k) {
     if (kind_[k] != FluidKind::fluid) continue;
     report.fluid_inside += inside_[k];
-    report.min_distance = std::min(report.min_distance, structure_distance_[k]);
+    report.min_distance = std::min(report.min_distance, body_distance_[k]);
+    report.max_depth = std::max(report.max_depth, body_depth_[k]);
     if (inside_[k] && (first_id < 0 || id_[k] < first_id)) first_id = id_[k], report.inside_at = x_[k];
   }
   return report;
+}
+
+template <int D>
+void ContactRecord<D>::add(const InteractionReport<D>& step, Real t) {
+  if (step.fluid_inside > 0) {
+    if (steps_with_inside_++ == 0) first_inside_time_ = t;
+    if (step.fluid_inside > max_inside_) worst_inside_time_ = t, worst_inside_at_ = step.inside_at;
+  }
+  max_inside_ = std::max(max_inside_, step.fluid_inside);
+  min_distance_ = std::min(min_distance_, step.min_distance);
+  max_depth_ = std::max(max_depth_, step.max_depth);
+}
+
+template <int D>
+void ContactRecord<D>::write(JsonObject& o, const std::string& body) const {
+  o.set("fluid_inside_" + body + "_max", static_cast<long long>(max_inside_))
+      .set("steps_with_fluid_inside_" + body, steps_with_inside_)
+      .set("min_fluid_" + body + "_distance", std::isfinite(min_distance_) ? min_distance_ : -1.0)
+      .set("max_fluid_" + body + "_depth", max_depth_);
+  if (steps_with_inside_ == 0) return;
+  JsonObject at;
+  for (int d = 0; d < D; ++d) at.set(d == 0 ? "x" : d == 1 ? "y" : "z", worst_inside_at_[d]);
+  o.set("first_fluid_inside_" + body + "_time", first_inside_time_)
+      .set("max_fluid_inside_" + body + "_time", worst_inside_time_)
+      .set("max_fluid_inside_" + body + "_at", at);
 }
 
 template <int D>
@@ -238,5 +265,7 @@ Index FluidParticles<D>::first_non_finite() const {
 
 template class FluidParticles<2>;
 template class FluidParticles<3>;
+template class ContactRecord<2>;
+template class ContactRecord<3>;
 
 }  // namespace isph

@@ -4,6 +4,7 @@
 // the time loop reads (energies, probes, penetration). The fluid models derive from it and add their
 // own step: the projection ISPH of seed 001 (sim/isph.hpp) and the weakly compressible comparator of
 // seed 002 (sim/wcsph.hpp).
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -53,12 +54,34 @@ struct FluidSetup {
   std::string interaction_force = "pairwise";  // pairwise | gradient (Eq. 48 literally; structure/interaction.hpp)
 };
 
-// Penetration diagnostics of a coupled step (structure/interaction.hpp).
+// Penetration diagnostics of one step against one body, the structure or the walls
+// (BodyContact, structure/interaction.hpp).
 template <int D>
 struct InteractionReport {
-  Index fluid_inside = 0;                // fluid particles inside a structure
-  Real min_distance = 0;                 // smallest fluid-structure particle distance (inf: none in reach)
+  Index fluid_inside = 0;                // fluid particles inside the body
+  Real min_distance = 0;                 // smallest fluid-body particle distance (inf: none in reach)
+  Real max_depth = 0;                    // deepest fluid particle inside, behind the body's surface
   Vec<D> inside_at = Vec<D>::zero();     // position of the lowest-id fluid particle inside (when any)
+};
+
+// The penetration diagnostics of a run against one body, step by step, for summary.json.
+template <int D>
+class ContactRecord {
+ public:
+  void add(const InteractionReport<D>& step, Real t);
+  // Keys named after the body ("structure", "wall"): fluid_inside_<body>_max, steps_with_fluid_inside_<body>,
+  // min_fluid_<body>_distance (-1: never in reach), max_fluid_<body>_depth (behind the surface; 0: none
+  // inside) and, when any was inside, first_fluid_inside_<body>_time,
+  // max_fluid_inside_<body>_time and max_fluid_inside_<body>_at (a particle inside at that step).
+  void write(JsonObject& o, const std::string& body) const;
+
+ private:
+  Index max_inside_ = 0;
+  long long steps_with_inside_ = 0;
+  Real first_inside_time_ = 0, worst_inside_time_ = 0;
+  Vec<D> worst_inside_at_ = Vec<D>::zero();
+  Real min_distance_ = std::numeric_limits<Real>::infinity();
+  Real max_depth_ = 0;
 };
 
 struct FluidStepReport {
@@ -114,9 +137,9 @@ class FluidParticles {
   // The structure's acceleration over the current step (a_s, what the boundary pressure of structure
   // particles balances), indexed as in the TLSPH solver.
   virtual void set_structure_acceleration(const std::vector<Vec<D>>& a);
-  // Fluid particles inside a structure, and the smallest fluid-structure particle distance (inf if none
-  // is within the kernel support).
-  InteractionReport<D> structure_contact();
+  // Fluid particles inside the body of one kind (structure or wall), and the smallest fluid-body particle
+  // distance (inf if none is within the kernel support).
+  InteractionReport<D> contact(FluidKind body);
 
  protected:
   FluidView<D> view() const;
@@ -142,7 +165,7 @@ class FluidParticles {
   std::vector<Vec<D>> reference_x_;  // initial positions (moving walls follow their motion from them)
   std::vector<Vec<D>> boundary_force_;  // pressure force per unit volume on wall and structure particles
   std::vector<unsigned char> inside_;
-  std::vector<Real> structure_distance_;
+  std::vector<Real> body_distance_, body_depth_;
   CellList<D> cells_;
   NeighbourList neighbours_;
 

@@ -435,6 +435,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   const Index initial_fluid = solver.fluid_count();
   double worst_residual = 0;
   Real t = 0, first_dt = 0, first_removal = 0;
+  ContactRecord<D> wall_contact;  // fluid inside the walls, step by step
   const Real eps = 1e-12 * spec.end_time;
   while (t < spec.end_time - eps) {
     // Land on end_time without a sliver of a step (the PPE's source div u*/dt is sensitive to tiny dt):
@@ -453,6 +454,8 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
     }
     ++step;
     t += dt;
+    if (solver.wall_count() > 0)
+      timer.time("contact", [&] { wall_contact.add(solver.contact(FluidKind::wall), t); });
     iterations += report.ppe.iterations;
     worst_residual = std::max(worst_residual, report.ppe.relative_residual);
     max_iterations = std::max<long long>(max_iterations, report.ppe.iterations);
@@ -534,6 +537,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   JsonObject particles = particle_counts(initial_fluid, solver.wall_count(), coupling ? coupling->solver().size() : 0);
   particles.set("fluid_removed", removed_total);
   if (removed_total > 0) particles.set("fluid_first_removed_at", first_removal);
+  if (solver.wall_count() > 0) wall_contact.write(particles, "wall");
   frame.finish(D, particles,
                step, coupling ? coupling->substeps() : 0, t, timer, ppe, perf);
   return frame.result;

@@ -130,28 +130,38 @@ Periodicity<D> periodicity(const PeriodicSpec& p) {
 
 // Wall surface geometry for the no-slip condition (FluidView::velocity_seen): for each wall particle
 // the nearest lattice point that is inside the bounding box of all particles and not occupied by a
-// wall particle (the "cavity" the fluid lives in) gives the normal n_w, pointing to it, and the depth
+// boundary particle (the "cavity" the fluid lives in) gives the normal n_w, pointing to it, and the depth
 // d_w = |q - x_w| - dx/2 (the wall surface lies half a spacing before the first free lattice point).
 // Wall particles with no free point within the kernel support keep n = 0 and never meet fluid.
+// What occupies a point depends on the particle: a structure particle's surface is found among all
+// boundary particles, a wall particle's only among the walls and the clamped structure particles, which
+// stay where they are. The free part of a structure standing on a wall may move off it (the elastic
+// gate's foot lifts off the floor): the wall beneath is then exposed, and its particles need the normal
+// and depth of that face (with the foot counted, they pointed sideways, 1.7 dx deep, and water that
+// ran into the floor there was not stopped by the impermeability condition of Project).
 template <int D>
-void wall_surface_geometry(FluidSetup<D>& f, Real dx, Real support, const Periodicity<D>& period) {
+void wall_surface_geometry(FluidSetup<D>& f, const std::vector<unsigned char>& structure_fixed, Real dx, Real support,
+                           const Periodicity<D>& period) {
   const Index n = static_cast<Index>(f.x.size());
   f.wall_normal.assign(n, Vec<D>::zero());
   f.wall_depth.assign(n, 0);
-  std::vector<Vec<D>> walls;
-  for (Index a = 0; a < n; ++a)
-    if (f.kind[a] != FluidKind::fluid) walls.push_back(f.x[a]);
-  if (walls.empty()) return;
+  std::vector<Vec<D>> boundary, permanent;
+  for (Index a = 0; a < n; ++a) {
+    if (f.kind[a] == FluidKind::fluid) continue;
+    boundary.push_back(f.x[a]);
+    if (f.kind[a] == FluidKind::wall || structure_fixed[f.structure_index[a]]) permanent.push_back(f.x[a]);
+  }
+  if (boundary.empty()) return;
   Vec<D> lo = f.x[0], hi = f.x[0];
   for (const auto& x : f.x)
     for (int d = 0; d < D; ++d) lo[d] = std::min(lo[d], x[d]), hi[d] = std::max(hi[d], x[d]);
-  CellList<D> cells;
-  cells.build(walls, dx, period);
-  const CellListView<D> view = cells.view();
-  // Occupancy: a wall particle within dx/2 of q.
-  auto occupied = [&](const Vec<D>& q) {
+  CellList<D> boundary_cells, permanent_cells;
+  boundary_cells.build(boundary, dx, period);
+  permanent_cells.build(permanent, dx, period);
+  // Occupancy: a particle of `cells` within dx/2 of q.
+  auto occupied = [&](const CellList<D>& cells, const Vec<D>& q) {
     bool hit = false;
-    view.for_each_near(q, [&](Index, const Vec<D>& r) { hit = hit || norm2(r) < 0.25 * dx * dx; });
+    cells.view().for_each_near(q, [&](Index, const Vec<D>& r) { hit = hit || norm2(r) < 0.25 * dx * dx; });
     return hit;
   };
   const int reach = static_cast<int>(std::ceil(support / dx)) + 1;
@@ -170,7 +180,8 @@ void wall_surface_geometry(FluidSetup<D>& f, Real dx, Real support, const Period
         bool in_box = true;
         for (int d = 0; d < D; ++d)
           if (!period.axis[d] && (q[d] < lo[d] || q[d] > hi[d])) in_box = false;
-        if (in_box && !occupied(q)) best = dist2, best_offset = offset;
+        if (in_box && !occupied(f.kind[a] == FluidKind::wall ? permanent_cells : boundary_cells, q))
+          best = dist2, best_offset = offset;
       }
       int d = 0;
       while (d < D && ++k[d] > reach) k[d] = -reach, ++d;
@@ -229,7 +240,8 @@ void check_wall_thickness(const FluidSetup<D>& f, Real dx, Real support, const P
 // Checks the fluid set-up and completes it: material, overlaps, containment, wall geometry, the
 // reference velocity of Eq. 49 and the fluid probes.
 template <int D>
-void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, std::vector<std::string>& problems) {
+void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const std::vector<unsigned char>& structure_fixed,
+                  std::vector<std::string>& problems) {
   const std::string file = spec.source_path.empty() ? spec.name : spec.source_path;
   const Real dx = spec.dx;
   const Index n = static_cast<Index>(f.x.size());
@@ -323,7 +335,7 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, std::
                          " fluid particles lie outside every wall (beyond the walls' bounding box)");
   }
 
-  wall_surface_geometry(f, dx, f.kernel.support(), period);
+  wall_surface_geometry(f, structure_fixed, dx, f.kernel.support(), period);
   check_wall_thickness(f, dx, f.kernel.support(), period, file, problems);
 
   // Moving walls: where they go and how fast, sampled over the run (for Eq. 49 and the escape box).
@@ -460,7 +472,7 @@ Scene<D> build_scene(const CaseSpec& spec) {
   scene.has_fluid = spec.stages.fluid;
   if (spec.stages.structure && n == 0 && problems.empty())
     problems.push_back(file + ": bodies: the case has no structure particles (set stages.structure = false)");
-  if (scene.has_fluid) finish_fluid<D>(spec, scene, fluid, problems);
+  if (scene.has_fluid) finish_fluid<D>(spec, scene, fluid, s.fixed, problems);
 
   // Loads: per-particle acceleration at full load.
   for (std::size_t li = 0; li < spec.loads.size(); ++li) {

@@ -121,6 +121,46 @@ TEST(FreeSurface, ClassifiesAKnownBlock) {
   EXPECT_EQ(counted[static_cast<int>(SurfaceClass::splash)], 1);
 }
 
+// The wall beneath a structure's free part gets the normal and depth of the face it shows once the
+// structure lifts off (the elastic gate's foot): up, dx/2 deep, as the floor beside it. Beneath the
+// clamped part, which never moves, the floor is covered for good and its particles have no face.
+TEST(WallGeometry, FloorUnderAFreeStructureFacesUp) {
+  const double dx = 0.1;
+  const std::string text =
+      "dx = 0.1\nend_time = 1\ngravity = [0, -9.81]\n[stages]\nstructure = true\nfluid = true\n"
+      "[[materials]]\nname = \"water\"\nmodel = \"newtonian\"\ndensity = 1000\nviscosity = 1e-6\n"
+      "[[materials]]\nname = \"rubber\"\ndensity = 1100\nyoungs_modulus = 1e6\npoisson_ratio = 0.3\n"
+      "[[bodies]]\nname = \"water\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
+      "shape = { type = \"rectangle\", min = [0, 0], max = [1.0, 0.8] }\n"
+      "[[bodies]]\nname = \"gate\"\nkind = \"structure\"\nmaterial = \"rubber\"\n"
+      "shape = { type = \"rectangle\", min = [1.0, 0.0], max = [1.4, 1.0] }\n"
+      "clamps = [ { type = \"rectangle\", min = [1.0, 0.0], max = [1.2, 0.1] } ]\n"
+      "[[bodies]]\nname = \"floor\"\nkind = \"wall\"\n"
+      "shape = { type = \"rectangle\", min = [-0.3, -0.3], max = [2.3, 0] }\n"
+      "[[bodies]]\nname = \"left\"\nkind = \"wall\"\n"
+      "shape = { type = \"rectangle\", min = [-0.3, 0], max = [0, 1.2] }\n"
+      "[[bodies]]\nname = \"right\"\nkind = \"wall\"\n"
+      "shape = { type = \"rectangle\", min = [2.0, 0], max = [2.3, 1.2] }\n";
+  const Scene<2> scene = build_scene<2>(load_text(text));
+  const FluidSetup<2>& f = scene.fluid;
+  int free_part = 0, clamped_part = 0;
+  for (std::size_t a = 0; a < f.x.size(); ++a) {
+    const Vec<2> x = f.x[a];
+    if (f.kind[a] != FluidKind::wall || std::abs(x[1] + 0.5 * dx) > 1e-9) continue;  // the floor's top layer
+    if (x[0] > 1.2 && x[0] < 1.4) {  // beneath the gate's free part
+      EXPECT_NEAR(f.wall_normal[a][0], 0, 1e-12) << "at x = " << x[0];
+      EXPECT_NEAR(f.wall_normal[a][1], 1, 1e-12) << "at x = " << x[0];
+      EXPECT_NEAR(f.wall_depth[a], 0.5 * dx, 1e-12) << "at x = " << x[0];
+      ++free_part;
+    } else if (x[0] > 1.0 && x[0] < 1.2) {  // beneath the clamp: the nearest free site is diagonal
+      EXPECT_NEAR(f.wall_depth[a], (std::sqrt(2.0) - 0.5) * dx, 1e-12) << "at x = " << x[0];
+      ++clamped_part;
+    }
+  }
+  EXPECT_EQ(free_part, 2);
+  EXPECT_EQ(clamped_part, 2);
+}
+
 // One projection step from rest gives the hydrostatic pressure rho g (H - y) and cancels gravity. The
 // walls' rows and the extrapolated surface condition are exact for it; the two-point Laplacian of
 // Eq. 15 is not exact for linear fields where the support is cut by the surface, which shifts the

@@ -1,5 +1,6 @@
-// The penetration diagnostic (StructureContact, structure/interaction.hpp) on a block of structure
-// particles tilted as the elastic gate's free end is when the water runs out under it.
+// The penetration diagnostic (BodyContact, structure/interaction.hpp): on a block of structure
+// particles tilted as the elastic gate's free end is when the water runs out under it, and on the
+// concave corner of a tank's walls.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,6 +15,28 @@ using namespace isph;
 namespace {
 
 constexpr Real dx = 1.0;
+
+// BodyContact's verdict on every particle of the set, against the particles of kind `body`: inside or
+// not, and how far behind the body's surface.
+struct Verdict {
+  std::vector<unsigned char> inside;
+  std::vector<Real> depth;
+};
+
+Verdict contact_verdict(const std::vector<Vec<2>>& x, const std::vector<FluidKind>& kind,
+                                        const std::vector<Vec<2>>& normal, const std::vector<Real>& depth,
+                                        FluidKind body) {
+  const Index n = static_cast<Index>(x.size());
+  const auto kernel = SmoothingKernel<2>::make(KernelType::cubic_spline, 1.2 * dx);
+  const NeighbourList nl = build_neighbour_list<2>(x, kernel.support());
+  std::vector<Real> volume(n, dx * dx), distance(n);
+  std::vector<Vec<2>> zero(n, Vec<2>::zero());
+  const OperatorView<2> op{n, x.data(), volume.data(), nl.offset.data(), nl.index.data(), kernel};
+  const FluidView<2> view{op, kind.data(), zero.data(), zero.data(), normal.data(), depth.data(), dx};
+  Verdict verdict{std::vector<unsigned char>(n, 2), std::vector<Real>(n, -1)};
+  parallel_for(Exec{}, n, BodyContact<2>{view, body, verdict.inside.data(), distance.data(), verdict.depth.data()});
+  return verdict;
+}
 
 // A block of cols x rows structure particles whose lower-left corner particle sits at the origin,
 // turned by `tilt` about it, with the set-up's surface data: the unit normal of the nearest face
@@ -50,25 +73,38 @@ struct TiltedBlock {
     depth.push_back(0);
   }
 
-  std::vector<unsigned char> inside() const {
-    const Index n = static_cast<Index>(x.size());
-    const auto kernel = SmoothingKernel<2>::make(KernelType::cubic_spline, 1.2 * dx);
-    const NeighbourList nl = build_neighbour_list<2>(x, kernel.support());
-    std::vector<Real> volume(n, dx * dx), distance(n);
-    std::vector<Vec<2>> zero(n, Vec<2>::zero());
-    const OperatorView<2> op{n, x.data(), volume.data(), nl.offset.data(), nl.index.data(), kernel};
-    const FluidView<2> view{op, kind.data(), zero.data(), zero.data(), normal.data(), depth.data(), dx};
-    std::vector<unsigned char> in(n, 2);
-    parallel_for(Exec{}, n, StructureContact<2>{view, in.data(), distance.data()});
-    return in;
-  }
+  std::vector<unsigned char> inside() const { return contact_verdict(x, kind, normal, depth, FluidKind::structure).inside; }
 };
+
+// The walls of a tank's lower-left corner, three layers thick on the lattice, the fluid's first lattice
+// site at (dx/2, dx/2): the floor's and the side wall's faces lie along y = 0 and x = 0. Each wall
+// particle's normal points to its nearest fluid lattice site q, its depth is |q - x| - dx/2 (as the
+// set-up gives them, sim/scene.cpp).
+Verdict tank_corner_verdict(Vec<2> fluid) {
+  std::vector<Vec<2>> x, normal;
+  std::vector<Real> depth;
+  for (int i = -3; i < 8; ++i)
+    for (int j = -3; j < 8; ++j) {
+      if (i >= 0 && j >= 0) continue;
+      x.push_back(Vec<2>{{(i + 0.5) * dx, (j + 0.5) * dx}});
+      const Vec<2> to_fluid{{(std::max(i, 0) - i) * dx, (std::max(j, 0) - j) * dx}};
+      const Real dist = std::sqrt(norm2(to_fluid));
+      normal.push_back((1.0 / dist) * to_fluid);
+      depth.push_back(dist - 0.5 * dx);
+    }
+  std::vector<FluidKind> kind(x.size(), FluidKind::wall);
+  x.push_back(fluid);
+  kind.push_back(FluidKind::fluid);
+  normal.push_back(Vec<2>::zero());
+  depth.push_back(0);
+  return contact_verdict(x, kind, normal, depth, FluidKind::wall);
+}
 
 }  // namespace
 
 // Each fluid point is judged by where it lies against the block's faces (the surface lies dx/2
 // beyond the outer particles): inside when it has crossed a face, outside otherwise.
-TEST(StructureContact, InsideMeansBehindTheSurfaceOfTheBody) {
+TEST(BodyContact, InsideMeansBehindTheSurfaceOfTheBody) {
   const Real tilt = 0.3;  // the gate's end turned by ~17 degrees, as at t = 0.044 s
   TiltedBlock block(8, 4, tilt);
   struct Case {
@@ -94,5 +130,33 @@ TEST(StructureContact, InsideMeansBehindTheSurfaceOfTheBody) {
     const auto in = b.inside();
     EXPECT_EQ(in.back(), c.inside ? 1 : 0) << c.what;
     for (Index s = 0; s < b.structure_count; ++s) EXPECT_EQ(in[s], 0);  // structure particles are not judged
+  }
+}
+
+// In a tank's concave corner the walls' colour is 3/4 at the corner point: a fluid particle pressed
+// into the corner has c > 1/2 (0.54 at 0.3 dx from both faces) but is in front of the nearest wall
+// particle's face, so it is outside; one that has crossed the floor's face is inside, in the corner or
+// away from it.
+TEST(BodyContact, TankCornerOnTheLatticeIsOutside) {
+  struct Case {
+    Vec<2> at;
+    Real depth;  // behind the surface; 0: outside
+    const char* what;
+  };
+  const std::vector<Case> cases{
+      {{{0.5, 0.5}}, 0, "the corner's lattice site"},
+      {{{0.3, 0.3}}, 0, "pressed into the corner, 0.3 dx from both faces"},
+      {{{0.15, 0.15}}, 0, "0.15 dx from both faces"},
+      {{{4.5, 0.5}}, 0, "on the lattice above the floor"},
+      {{{4.5, 0.2}}, 0, "0.2 dx above the floor's face"},
+      {{{4.5, -0.25}}, 0.25, "dx/4 below the floor's face"},
+      {{{0.5, -0.25}}, 0.25, "dx/4 below the floor's face, in the corner"},
+      {{{4.5, -1.5}}, 1.5, "amid the floor's layers"},
+  };
+  for (const Case& c : cases) {
+    const Verdict v = tank_corner_verdict(c.at);
+    EXPECT_EQ(v.inside.back(), c.depth > 0 ? 1 : 0) << c.what;
+    EXPECT_NEAR(v.depth.back(), c.depth * dx, 1e-12) << c.what;
+    for (std::size_t w = 0; w + 1 < v.inside.size(); ++w) EXPECT_EQ(v.depth[w], 0);  // walls are not judged
   }
 }
