@@ -63,6 +63,9 @@ struct BoundaryPressureForce {
 // Inside a body a particle is behind every face and c > 1/2 except within about dx/2 of a convex
 // corner (c = 1/4 at the corner), where it is counted once it is about dx/2 in.
 // The depth of a particle inside is how far it lies behind that face, d_b - (x_a - x_b) . n_b (0 outside).
+// The distance is kOutOfReach for a particle with none of the body's particles within the kernel support
+// (and for particles that are not fluid).
+inline constexpr Real kOutOfReach = 1e300;
 template <int D>
 struct BodyContact {
   FluidView<D> v;
@@ -72,7 +75,7 @@ struct BodyContact {
   Real* depth;
   ISPH_HD void operator()(Index a) const {
     inside[a] = 0;
-    distance[a] = 1e300;
+    distance[a] = kOutOfReach;
     depth[a] = 0;
     if (!v.is_fluid(a)) return;
     Real colour = 0;

@@ -1,6 +1,7 @@
 #pragma once
 // Particle loops of the ISPH predictor and projection (seed 001 Eqs. 10-13, 18-19). Each functor
 // writes only particle a and reads its neighbours; wall particles are skipped unless stated.
+#include "core/parallel.hpp"
 #include "sim/fluid_view.hpp"
 
 namespace isph {
@@ -167,8 +168,9 @@ struct Drift {
 };
 
 // Values reduced over the particles (parallel_reduce): |u|^2 of fluid particles (0 for the others);
-// a per-particle scalar; 1 for a fluid row with a Dirichlet condition (alpha = 0); and a key that
-// orders fluid particles by stable id, id * 2^32 + a (the largest key for the others).
+// a per-particle scalar; 1 for a fluid row with a Dirichlet condition (alpha = 0); a per-particle flag
+// (to count, or to select); and the key id * 2^32 + a of the particles a selector accepts (the largest
+// key for the others), whose minimum names the selected particle of lowest stable id (lowest_id_particle).
 template <int D>
 struct FluidSpeed2 {
   const FluidKind* kind;
@@ -184,14 +186,28 @@ struct DirichletRow {
   const Real* alpha;
   ISPH_HD Index operator()(Index a) const { return kind[a] == FluidKind::fluid && alpha[a] == 0; }
 };
-struct FluidIdKey {
-  const FluidKind* kind;
-  const Index* id;
-  static constexpr long long kNone = 0x7fffffffffffffffLL;
-  ISPH_HD long long operator()(Index a) const {
-    return kind[a] == FluidKind::fluid ? (static_cast<long long>(id[a]) << 32) + a : kNone;
-  }
+struct Flagged {
+  const unsigned char* flag;
+  ISPH_HD Index operator()(Index a) const { return flag[a]; }
 };
+struct IsFluid {
+  const FluidKind* kind;
+  ISPH_HD bool operator()(Index a) const { return kind[a] == FluidKind::fluid; }
+};
+inline constexpr long long kNoIdKey = 0x7fffffffffffffffLL;
+template <class Select>
+struct IdKey {
+  Select select;
+  const Index* id;
+  ISPH_HD long long operator()(Index a) const { return select(a) ? (static_cast<long long>(id[a]) << 32) + a : kNoIdKey; }
+};
+
+// The particle of lowest stable id among those `select` accepts, or -1.
+template <class Select>
+Index lowest_id_particle(const Exec& exec, Index n, Select select, const Index* id) {
+  const long long key = parallel_reduce(exec, n, kNoIdKey, IdKey<Select>{select, id}, MinOf{});
+  return key == kNoIdKey ? -1 : static_cast<Index>(key & 0xffffffffLL);
+}
 
 // Boundary particles that belong to a structure take its state from the TLSPH solver (arrays indexed
 // as there): position, velocity, and the surface normal turned with the deformation,

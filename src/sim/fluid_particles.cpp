@@ -166,15 +166,11 @@ InteractionReport<D> FluidParticles<D>::contact(FluidKind body) {
   body_depth_.resize(n);
   parallel_for(exec_, n, BodyContact<D>{view(), body, inside_.data(), body_distance_.data(), body_depth_.data()});
   InteractionReport<D> report;
-  report.min_distance = std::numeric_limits<Real>::infinity();
-  Index first_id = -1;
-  for (Index k = 0; k < n; ++k) {
-    if (kind_[k] != FluidKind::fluid) continue;
-    report.fluid_inside += inside_[k];
-    report.min_distance = std::min(report.min_distance, body_distance_[k]);
-    report.max_depth = std::max(report.max_depth, body_depth_[k]);
-    if (inside_[k] && (first_id < 0 || id_[k] < first_id)) first_id = id_[k], report.inside_at = x_[k];
-  }
+  report.fluid_inside = parallel_reduce(exec_, n, Index{0}, Flagged{inside_.data()}, IntegerSum{});
+  const Real nearest = parallel_reduce(exec_, n, kOutOfReach, ScalarAt{body_distance_.data()}, MinOf{});
+  report.min_distance = nearest < kOutOfReach ? nearest : std::numeric_limits<Real>::infinity();
+  report.max_depth = parallel_reduce(exec_, n, Real{0}, ScalarAt{body_depth_.data()}, MaxOf{});
+  if (report.fluid_inside > 0) report.inside_at = x_[lowest_id_particle(exec_, n, Flagged{inside_.data()}, id_.data())];
   return report;
 }
 

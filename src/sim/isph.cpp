@@ -157,10 +157,8 @@ void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
                                                detected_.data(), alpha_.data()});
     parallel_for(exec_, n, NearSurfaceDetection<D>{v, detected_.data(), cls_.data()});
     // p is defined up to a constant without a Dirichlet row: fix it at the fluid particle of lowest id.
-    if (parallel_reduce(exec_, n, Index{0}, DirichletRow{kind_.data(), alpha_.data()}, IntegerSum{}) == 0) {
-      const long long key = parallel_reduce(exec_, n, FluidIdKey::kNone, FluidIdKey{kind_.data(), id_.data()}, MinOf{});
-      if (key != FluidIdKey::kNone) pinned = static_cast<Index>(key & 0xffffffffLL);
-    }
+    if (parallel_reduce(exec_, n, Index{0}, DirichletRow{kind_.data(), alpha_.data()}, IntegerSum{}) == 0)
+      pinned = lowest_id_particle(exec_, n, IsFluid{kind_.data()}, id_.data());
     parallel_for(exec_, n, PressureVolume<D>{v, alpha_.data(), pressure_volume_.data()});
     if (kernel_correction_) parallel_for(exec_, n, GradientCorrection<D>{pv.op, L_.data()});
     parallel_for(exec_, n, SurfaceNormal<D>{pv, L_.data(), cls_.data(), alpha_.data(), surface_normal_.data()});
