@@ -6,6 +6,7 @@
 #include <cuda_runtime.h>
 #include <cusparse.h>
 
+#include <algorithm>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -34,14 +35,17 @@ void require_device(const char* who) {
     throw std::runtime_error(std::string(who) + " needs a CUDA device, and none is visible to this process");
 }
 
-// CSR_ALG2 gives bit-wise reproducible products (cuSPARSE documentation), so that repeated runs agree.
-constexpr cusparseSpMVAlg_t kSpmvAlgorithm = CUSPARSE_SPMV_CSR_ALG2;
+// The solver uses CSR_ALG2, which gives bit-wise reproducible products (cuSPARSE documentation), so
+// that repeated runs agree; the benchmark also times CSR_ALG1, the default.
+cusparseSpMVAlg_t spmv_algorithm(SpmvAlgorithm a) {
+  return a == SpmvAlgorithm::reproducible ? CUSPARSE_SPMV_CSR_ALG2 : CUSPARSE_SPMV_CSR_ALG1;
+}
 
 class CudaOps {
  public:
   using Vector = DeviceArray<double>;
 
-  CudaOps() {
+  explicit CudaOps(SpmvAlgorithm algorithm = SpmvAlgorithm::reproducible) : algorithm_(spmv_algorithm(algorithm)) {
     check(cusparseCreate(&sparse_), "create");
     check(cublasCreate(&blas_), "create");
   }
@@ -78,9 +82,12 @@ class CudaOps {
     std::size_t bytes = 0;
     const double one = 1, zero = 0;
     check(cusparseSpMV_bufferSize(sparse_, CUSPARSE_OPERATION_NON_TRANSPOSE, &one, matrix_, x_, &zero, y_, CUDA_R_64F,
-                                  kSpmvAlgorithm, &bytes),
+                                  algorithm_, &bytes),
           "SpMV buffer size");
-    buffer_.grow_to(bytes);
+    buffer_.grow_to(std::max<std::size_t>(bytes, 1));
+    check(cusparseSpMV_preprocess(sparse_, CUSPARSE_OPERATION_NON_TRANSPOSE, &one, matrix_, x_, &zero, y_, CUDA_R_64F,
+                                  algorithm_, buffer_.data()),
+          "SpMV preprocess");
   }
 
   CsrView matrix() const { return {rows_, row_offset_.data(), col_.data(), val_.data()}; }
@@ -90,7 +97,7 @@ class CudaOps {
     check(cusparseDnVecSetValues(y_, y.data()), "set vector");
     const double one = 1, zero = 0;
     check(cusparseSpMV(sparse_, CUSPARSE_OPERATION_NON_TRANSPOSE, &one, matrix_, x_, &zero, y_, CUDA_R_64F,
-                       kSpmvAlgorithm, buffer_.data()),
+                       algorithm_, buffer_.data()),
           "SpMV");
   }
 
@@ -110,6 +117,7 @@ class CudaOps {
   }
 
  private:
+  cusparseSpMVAlg_t algorithm_;
   cusparseHandle_t sparse_ = nullptr;
   cublasHandle_t blas_ = nullptr;
   int rows_ = 0;
@@ -147,10 +155,11 @@ std::unique_ptr<LinearSolver> make_cuda_solver(const SolverSettings& s) {
 }
 }  // namespace detail
 
-SpmvMeasurement measure_cuda_spmv(const CsrMatrix& A, const std::vector<double>& x, int repeats) {
+SpmvMeasurement measure_cuda_spmv(const CsrMatrix& A, const std::vector<double>& x, int repeats,
+                                  SpmvAlgorithm algorithm) {
   require_device("measure_cuda_spmv");
   check_linear_system(A, x, x);
-  CudaOps ops;
+  CudaOps ops(algorithm);
   ops.set_matrix(A);
   auto dx = ops.vector(A.rows), dy = ops.vector(A.rows);
   ops.upload(x, dx);

@@ -35,17 +35,17 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
       gravity_(s.gravity),
       damping_(s.damping),
       hourglass_(s.hourglass),
-      materials_(std::move(s.materials)),
+      materials_(s.materials.begin(), s.materials.end()),
       loads_(std::move(s.loads)),
-      X_(std::move(s.X)),
-      v_(std::move(s.v)),
-      volume_(std::move(s.volume)),
-      material_(std::move(s.material)),
-      fixed_(std::move(s.fixed)),
+      X_(s.X.begin(), s.X.end()),
+      v_(s.v.begin(), s.v.end()),
+      volume_(s.volume.begin(), s.volume.end()),
+      material_(s.material.begin(), s.material.end()),
+      fixed_(s.fixed.begin(), s.fixed.end()),
       motion_(std::move(s.motion)),
       motions_(std::move(s.motions)) {
-  if (exec_.device != Device::cpu)
-    throw std::runtime_error("the TLSPH time loop runs on the cpu device only in this version");
+  if (exec_.device == Device::cuda && cuda_devices() == 0)
+    throw std::runtime_error("the structure solver was asked to run on a CUDA device, and none is visible to this process");
   if (loads_.size() > 8) throw std::invalid_argument("at most 8 loads are supported");
   x_ = X_;
   if (motion_.empty()) motion_.assign(n_, -1);
@@ -59,17 +59,17 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
   load_acc_.reserve(loads_.size() * n_);
   for (const auto& l : loads_) load_acc_.insert(load_acc_.end(), l.acc.begin(), l.acc.end());
 
-  // Reference configuration: neighbours within the same body, the correction L (Eq. 35) and the
-  // per-pair kernel gradients.
-  const NeighbourList list = build_neighbour_list<D>(X_, kernel_.support(), s.body.data());
-  nbr_offset_ = list.offset;
-  nbr_ = list.index;
+  // Reference configuration (on the host): neighbours within the same body, the correction L (Eq. 35)
+  // and the per-pair kernel gradients.
+  const NeighbourList list = build_neighbour_list<D>(s.X, kernel_.support(), s.body.data());
+  nbr_offset_.assign(list.offset.begin(), list.offset.end());
+  nbr_.assign(list.index.begin(), list.index.end());
   grad_.resize(nbr_.size());
   cgrad_.resize(nbr_.size());
   hg_weight_.resize(nbr_.size());
   L_.resize(n_);
   if (s.correction)
-    parallel_for(exec_, n_,
+    parallel_for(Exec{}, n_,
                  GradientCorrection<D>{{n_, X_.data(), volume_.data(), nbr_offset_.data(), nbr_.data(), kernel_}, L_.data()});
   else
     L_.assign(n_, Mat<D>::identity());
@@ -96,7 +96,25 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
   PL_.assign(n_, Mat<D>::zero());
   H_.assign(n_, Mat<D>::zero());
   psi_.assign(n_, 0);
+  for (auto* v : {&x0_, &v0_, &x_sum_, &v_sum_, &saved_x_, &saved_v_, &saved_acc_}) v->assign(n_, Vec<D>::zero());
+  if (exec_.device == Device::cuda) {
+    make_state_device_visible();
+    graph_ = std::make_unique<LaunchGraph>();
+  }
   update_stress();
+}
+
+template <int D>
+void TlsphSolver<D>::make_state_device_visible() {
+  make_device_visible(materials_);
+  make_device_visible(volume_), make_device_visible(hg_weight_), make_device_visible(psi_);
+  make_device_visible(material_);
+  make_device_visible(fixed_);
+  make_device_visible(nbr_offset_), make_device_visible(nbr_);
+  for (auto* v : {&load_acc_, &interaction_, &X_, &x_, &v_, &acc_, &grad_, &cgrad_, &rcgrad_, &cgrad_sum_, &x0_, &v0_,
+                  &x_sum_, &v_sum_, &saved_x_, &saved_v_, &saved_acc_})
+    make_device_visible(*v);
+  for (auto* m : {&L_, &F_, &PL_, &H_}) make_device_visible(*m);
 }
 
 template <int D>
@@ -141,17 +159,16 @@ Real TlsphSolver<D>::stable_dt(Real courant) const {
 
 template <int D>
 void TlsphSolver<D>::update_stress() {
-  tlsph_stress(exec_, view());
+  tlsph_stress(waiting_exec(), view());
   pair_evaluations_ += (hourglass_ > 0 ? 2 : 1) * static_cast<long long>(pairs());
 }
 
 template <int D>
-void TlsphSolver<D>::evaluate(Real t) {
+void TlsphSolver<D>::evaluate(const Exec& exec, Real t) {
   TlsphView<D> s = view();
   for (std::size_t l = 0; l < loads_.size(); ++l) s.load_factor[l] = loads_[l].factor(t);
-  tlsph_stress(exec_, s);
-  tlsph_acceleration(exec_, s);
-  pair_evaluations_ += (hourglass_ > 0 ? 3 : 2) * static_cast<long long>(pairs());
+  tlsph_stress(exec, s);
+  tlsph_acceleration(exec, s);
 }
 
 template <int D>
@@ -163,36 +180,58 @@ void TlsphSolver<D>::step(Real t, Real dt) {
 }
 
 template <int D>
-void TlsphSolver<D>::step_rk4(Real t, Real dt) {
-  x0_ = x_;
-  v0_ = v_;
-  x_sum_ = x_;
-  v_sum_ = v_;
+void TlsphSolver<D>::rk4_launches(const Exec& exec, Real t, Real dt) {
+  parallel_for(exec, n_, StartRungeKutta<D>{x_.data(), v_.data(), x0_.data(), v0_.data(), x_sum_.data(), v_sum_.data()});
   constexpr Real w_sum[4] = {1.0 / 6, 1.0 / 3, 1.0 / 3, 1.0 / 6};
   constexpr Real w_next[4] = {0.5, 0.5, 1.0, 1.0};
   constexpr Real t_stage[4] = {0.0, 0.5, 0.5, 1.0};
   for (int k = 0; k < 4; ++k) {
     prescribe_clamps(t + t_stage[k] * dt);
-    evaluate(t + t_stage[k] * dt);
-    parallel_for(exec_, n_,
+    evaluate(exec, t + t_stage[k] * dt);
+    parallel_for(exec, n_,
                  RungeKuttaStage<D>{n_, x0_.data(), v0_.data(), acc_.data(), fixed_.data(), x_.data(), v_.data(),
                                     x_sum_.data(), v_sum_.data(), dt, w_sum[k], w_next[k]});
   }
-  x_.swap(x_sum_);
-  v_.swap(v_sum_);
+  parallel_for(exec, n_, FinishRungeKutta<D>{x_sum_.data(), v_sum_.data(), x_.data(), v_.data()});
   prescribe_clamps(t + dt);
 }
 
 template <int D>
+void TlsphSolver<D>::step_rk4(Real t, Real dt) {
+  pair_evaluations_ += 4 * (hourglass_ > 0 ? 3 : 2) * static_cast<long long>(pairs());
+  replayed_graph_ = false;
+  // A graph replays fixed arguments: no ramping load, no moving clamp.
+  bool replayable = use_graphs_ && motions_.empty();
+  for (const auto& l : loads_) replayable = replayable && l.factor(t) == 1;
+  if (exec_.device == Device::cpu || !replayable) {
+    rk4_launches(waiting_exec(), t, dt);
+    return;
+  }
+  // The arrays stay in place from step to step; only the interaction field is allocated late (its
+  // first set_interaction).
+  if (!graph_->recorded() || dt != recorded_dt_ || interaction_.data() != recorded_interaction_) {
+    graph_->record([&](const Exec& exec) { rk4_launches(exec, t, dt); });
+    recorded_dt_ = dt;
+    recorded_interaction_ = interaction_.data();
+  }
+  graph_->replay();
+  graph_->synchronize();
+  replayed_graph_ = true;
+}
+
+template <int D>
 void TlsphSolver<D>::step_verlet(Real t, Real dt) {
+  const Exec exec = waiting_exec();
   if (!verlet_started_) {
-    evaluate(t);
+    evaluate(exec, t);
+    pair_evaluations_ += (hourglass_ > 0 ? 3 : 2) * static_cast<long long>(pairs());
     verlet_started_ = true;
   }
-  parallel_for(exec_, n_, VerletKickDrift<D>{acc_.data(), fixed_.data(), x_.data(), v_.data(), 0.5 * dt, dt});
+  parallel_for(exec, n_, VerletKickDrift<D>{acc_.data(), fixed_.data(), x_.data(), v_.data(), 0.5 * dt, dt});
   prescribe_clamps(t + dt);
-  evaluate(t + dt);
-  parallel_for(exec_, n_, VerletKickDrift<D>{acc_.data(), fixed_.data(), x_.data(), v_.data(), 0.5 * dt, 0.0});
+  evaluate(exec, t + dt);
+  pair_evaluations_ += (hourglass_ > 0 ? 3 : 2) * static_cast<long long>(pairs());
+  parallel_for(exec, n_, VerletKickDrift<D>{acc_.data(), fixed_.data(), x_.data(), v_.data(), 0.5 * dt, 0.0});
 }
 
 template <int D>
@@ -238,22 +277,21 @@ Real TlsphSolver<D>::potential_energy() const {
 template <int D>
 void TlsphSolver<D>::set_interaction(const std::vector<Vec<D>>& acc) {
   if (static_cast<Index>(acc.size()) != n_) throw std::invalid_argument("set_interaction: one value per particle");
-  interaction_ = acc;
+  interaction_.resize(acc.size());  // allocated once: a recorded graph keeps addressing it
+  std::copy(acc.begin(), acc.end(), interaction_.begin());
 }
 
 template <int D>
 void TlsphSolver<D>::save_state() {
-  saved_x_ = x_;
-  saved_v_ = v_;
-  saved_acc_ = acc_;
+  parallel_for(waiting_exec(), n_,
+               CopyMotion<D>{x_.data(), v_.data(), acc_.data(), saved_x_.data(), saved_v_.data(), saved_acc_.data()});
   saved_verlet_started_ = verlet_started_;
 }
 
 template <int D>
 void TlsphSolver<D>::restore_state() {
-  x_ = saved_x_;
-  v_ = saved_v_;
-  acc_ = saved_acc_;
+  parallel_for(waiting_exec(), n_,
+               CopyMotion<D>{saved_x_.data(), saved_v_.data(), saved_acc_.data(), x_.data(), v_.data(), acc_.data()});
   verlet_started_ = saved_verlet_started_;
 }
 

@@ -2,9 +2,18 @@
 // The TLSPH structure solver: reference configuration (neighbours, kernel gradients and the
 // correction L = K^{-T}, built once), the stress and acceleration loops, and the time
 // integrators (classical RK4, Eqs. 43-45, and velocity-Verlet as the second-order scheme).
+//
+// On the cuda device the set-up runs on the host; the arrays the loops read then move to managed
+// memory (StateVector), where the device steps them and the host reads them for output. A structure
+// of a few thousand particles is launch-bound (14 launches per RK4 step of a few microseconds each), so
+// the RK4 step is recorded once as a CUDA graph and replayed (LaunchGraph); it is recorded again when
+// the step size changes or the interaction field is first allocated, and not used while a load ramps up or a clamp moves (their values
+// change from step to step), where the launches go one by one.
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "core/device_memory.hpp"
 #include "core/parallel.hpp"
 #include "core/types.hpp"
 #include "kernels/smoothing_kernel.hpp"
@@ -58,13 +67,18 @@ class TlsphSolver {
 
   // Largest step for Courant number `courant`: courant * h / c_p, c_p the P-wave speed.
   Real stable_dt(Real courant) const;
-  // Advances positions and velocities from t to t + dt with the chosen integrator.
+  // Advances positions and velocities from t to t + dt with the chosen integrator. On the device it
+  // returns when the step is done, so that the host may read the state.
   void step(Real t, Real dt);
   // Recomputes F, P and the strain energy at the current state (for output).
   void update_stress();
   // The fluid's interaction acceleration alpha(f->s) (Eq. 48), one per particle, added to the
   // acceleration until it is set again.
   void set_interaction(const std::vector<Vec<D>>& acc);
+  // Whether the last RK4 step on the device replayed a recorded graph (for tests and benchmarks).
+  bool replayed_graph() const { return replayed_graph_; }
+  // Graphs on (the default) or off: off, the device's launches go one by one (for benchmarks).
+  void use_graphs(bool on) { use_graphs_ = on; }
   // Power of the interaction acceleration on the current velocities.
   Real interaction_power() const;
   // Keeps the current state (positions, velocities, integrator state) and goes back to it, so that a
@@ -75,14 +89,14 @@ class TlsphSolver {
   Index size() const { return n_; }
   Index pairs() const { return static_cast<Index>(nbr_.size()); }
   long long pair_evaluations() const { return pair_evaluations_; }
-  const std::vector<Vec<D>>& reference() const { return X_; }
-  const std::vector<Vec<D>>& position() const { return x_; }
-  const std::vector<Vec<D>>& velocity() const { return v_; }
-  const std::vector<Mat<D>>& deformation_gradient() const { return F_; }
-  const std::vector<unsigned char>& fixed() const { return fixed_; }
+  const StateVector<Vec<D>>& reference() const { return X_; }
+  const StateVector<Vec<D>>& position() const { return x_; }
+  const StateVector<Vec<D>>& velocity() const { return v_; }
+  const StateVector<Mat<D>>& deformation_gradient() const { return F_; }
+  const StateVector<unsigned char>& fixed() const { return fixed_; }
   Real density(Index a) const { return mass_[a] / volume_[a]; }
-  const std::vector<Index>& neighbour_offset() const { return nbr_offset_; }
-  const std::vector<Index>& neighbours() const { return nbr_; }
+  const StateVector<Index>& neighbour_offset() const { return nbr_offset_; }
+  const StateVector<Index>& neighbours() const { return nbr_; }
   // Cauchy stress sigma = F S F^T / det F of particle a (from the last update_stress()).
   Mat<D> cauchy_stress(Index a) const;
 
@@ -93,10 +107,14 @@ class TlsphSolver {
   TlsphView<D> view();                        // host view of the current state
 
  private:
-  void evaluate(Real t);  // acc at the current (x, v)
+  void evaluate(const Exec& exec, Real t);  // acc at the current (x, v)
+  void rk4_launches(const Exec& exec, Real t, Real dt);
   void step_rk4(Real t, Real dt);
   void step_verlet(Real t, Real dt);
-  void prescribe_clamps(Real t);  // moving clamps: x and v at time t
+  void prescribe_clamps(Real t);  // moving clamps: x and v at time t (a host loop)
+  void make_state_device_visible();
+  // Launches that wait for each other (the host's, or the device's one by one).
+  Exec waiting_exec() const { return Exec{exec_.device}; }
 
   Exec exec_;
   Index n_ = 0;
@@ -104,26 +122,33 @@ class TlsphSolver {
   StructureIntegrator integrator_;
   Vec<D> gravity_;
   Real damping_, hourglass_;
-  std::vector<ElasticMaterial> materials_;
+  StateVector<ElasticMaterial> materials_;
   std::vector<LoadField<D>> loads_;
-  std::vector<Vec<D>> load_acc_, interaction_;
-  std::vector<Vec<D>> X_, x_, v_, acc_;
-  std::vector<Real> volume_, mass_;
-  std::vector<int> material_;
-  std::vector<unsigned char> fixed_;
+  StateVector<Vec<D>> load_acc_, interaction_;
+  StateVector<Vec<D>> X_, x_, v_, acc_;
+  StateVector<Real> volume_;
+  std::vector<Real> mass_;
+  StateVector<int> material_;
+  StateVector<unsigned char> fixed_;
   std::vector<Index> motion_;
   std::vector<RigidMotion<D>> motions_;
-  std::vector<Index> nbr_offset_, nbr_;
-  std::vector<Vec<D>> grad_, cgrad_;
-  std::vector<Real> hg_weight_;
-  std::vector<Vec<D>> rcgrad_, cgrad_sum_;
-  std::vector<Mat<D>> L_, F_, PL_, H_;
-  std::vector<Real> psi_;
-  std::vector<Vec<D>> x0_, v0_, x_sum_, v_sum_;  // integrator scratch
+  StateVector<Index> nbr_offset_, nbr_;
+  StateVector<Vec<D>> grad_, cgrad_;
+  StateVector<Real> hg_weight_;
+  StateVector<Vec<D>> rcgrad_, cgrad_sum_;
+  StateVector<Mat<D>> L_, F_, PL_, H_;
+  StateVector<Real> psi_;
+  StateVector<Vec<D>> x0_, v0_, x_sum_, v_sum_;  // integrator scratch
   bool verlet_started_ = false;
-  std::vector<Vec<D>> saved_x_, saved_v_, saved_acc_;
+  StateVector<Vec<D>> saved_x_, saved_v_, saved_acc_;
   bool saved_verlet_started_ = false;
   long long pair_evaluations_ = 0;
+  // the device's RK4 step as a graph, and what it was recorded for
+  std::unique_ptr<LaunchGraph> graph_;
+  Real recorded_dt_ = 0;
+  const Vec<D>* recorded_interaction_ = nullptr;
+  bool replayed_graph_ = false;
+  bool use_graphs_ = true;
 };
 
 }  // namespace isph

@@ -171,6 +171,51 @@ struct RungeKuttaStage {
   }
 };
 
+// The start of an RK4 step: x0 = x_sum = x, v0 = v_sum = v.
+template <int D>
+struct StartRungeKutta {
+  const Vec<D>* x;
+  const Vec<D>* v;
+  Vec<D>* x0;
+  Vec<D>* v0;
+  Vec<D>* x_sum;
+  Vec<D>* v_sum;
+  ISPH_HD void operator()(Index a) const {
+    x0[a] = x_sum[a] = x[a];
+    v0[a] = v_sum[a] = v[a];
+  }
+};
+
+// The end of an RK4 step: x = x_sum, v = v_sum (a copy, not a swap of the arrays, so that a recorded
+// graph of the step keeps addressing the same arrays).
+template <int D>
+struct FinishRungeKutta {
+  const Vec<D>* x_sum;
+  const Vec<D>* v_sum;
+  Vec<D>* x;
+  Vec<D>* v;
+  ISPH_HD void operator()(Index a) const {
+    x[a] = x_sum[a];
+    v[a] = v_sum[a];
+  }
+};
+
+// The state kept for a repeated coupled step (save_state, restore_state): to = from for x, v, acc.
+template <int D>
+struct CopyMotion {
+  const Vec<D>* from_x;
+  const Vec<D>* from_v;
+  const Vec<D>* from_acc;
+  Vec<D>* to_x;
+  Vec<D>* to_v;
+  Vec<D>* to_acc;
+  ISPH_HD void operator()(Index a) const {
+    to_x[a] = from_x[a];
+    to_v[a] = from_v[a];
+    to_acc[a] = from_acc[a];
+  }
+};
+
 // Velocity-Verlet (kick-drift-kick), the explicit second-order scheme:
 //   kick: v += dt/2 acc;   drift: x += dt v.
 template <int D>

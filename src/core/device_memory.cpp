@@ -35,12 +35,66 @@ void copy_host_to_device(void* dst, const void* src, std::size_t bytes) {
 void copy_device_to_host(void* dst, const void* src, std::size_t bytes) {
   check(cudaMemcpy(dst, src, bytes, cudaMemcpyDeviceToHost), "cudaMemcpy to host");
 }
+void* managed_allocate(std::size_t bytes) {
+  void* p = nullptr;
+  check(cudaMallocManaged(&p, bytes), "cudaMallocManaged");
+  return p;
+}
+void managed_free(void* p) {
+  if (p) cudaFree(p);
+}
+
+LaunchGraph::LaunchGraph() {
+  cudaStream_t s = nullptr;
+  check(cudaStreamCreateWithFlags(&s, cudaStreamNonBlocking), "cudaStreamCreate");
+  stream_ = s;
+}
+LaunchGraph::~LaunchGraph() {
+  release();
+  cudaStreamDestroy(static_cast<cudaStream_t>(stream_));
+}
+void LaunchGraph::release() {
+  if (graph_) cudaGraphExecDestroy(static_cast<cudaGraphExec_t>(graph_));
+  graph_ = nullptr;
+}
+void LaunchGraph::record(const std::function<void(const Exec&)>& launches) {
+  release();
+  const auto s = static_cast<cudaStream_t>(stream_);
+  check(cudaStreamBeginCapture(s, cudaStreamCaptureModeThreadLocal), "cudaStreamBeginCapture");
+  cudaGraph_t graph = nullptr;
+  try {
+    launches(exec());
+  } catch (...) {
+    cudaStreamEndCapture(s, &graph);
+    if (graph) cudaGraphDestroy(graph);
+    throw;
+  }
+  check(cudaStreamEndCapture(s, &graph), "cudaStreamEndCapture");
+  cudaGraphExec_t instance = nullptr;
+  const cudaError_t err = cudaGraphInstantiate(&instance, graph, 0);
+  cudaGraphDestroy(graph);
+  check(err, "cudaGraphInstantiate");
+  graph_ = instance;
+}
+void LaunchGraph::replay() {
+  if (!graph_) throw std::logic_error("LaunchGraph::replay: nothing recorded");
+  check(cudaGraphLaunch(static_cast<cudaGraphExec_t>(graph_), static_cast<cudaStream_t>(stream_)), "cudaGraphLaunch");
+}
+void LaunchGraph::synchronize() { check(cudaStreamSynchronize(static_cast<cudaStream_t>(stream_)), "cudaStreamSynchronize"); }
 #else
 int cuda_devices() { return 0; }
 void* device_allocate(std::size_t) { throw std::runtime_error("this build has no CUDA backend"); }
 void device_free(void*) {}
 void copy_host_to_device(void*, const void*, std::size_t) { throw std::runtime_error("this build has no CUDA backend"); }
 void copy_device_to_host(void*, const void*, std::size_t) { throw std::runtime_error("this build has no CUDA backend"); }
+void* managed_allocate(std::size_t) { throw std::runtime_error("this build has no CUDA backend"); }
+void managed_free(void*) {}
+LaunchGraph::LaunchGraph() { throw std::runtime_error("LaunchGraph: this build has no CUDA backend"); }
+LaunchGraph::~LaunchGraph() = default;
+void LaunchGraph::release() {}
+void LaunchGraph::record(const std::function<void(const Exec&)>&) {}
+void LaunchGraph::replay() {}
+void LaunchGraph::synchronize() {}
 #endif
 
 }  // namespace isph

@@ -2,9 +2,14 @@
 // Device memory for the CUDA backend, usable from host-compiled code. Without CUDA
 // (ISPH_HAVE_CUDA undefined) cuda_devices() is 0 and allocation throws.
 #include <cstddef>
+#include <functional>
+#include <memory>
 #include <stdexcept>
+#include <type_traits>
 #include <utility>
 #include <vector>
+
+#include "core/parallel.hpp"
 
 namespace isph {
 
@@ -13,6 +18,71 @@ void* device_allocate(std::size_t bytes);
 void device_free(void* p);
 void copy_host_to_device(void* dst, const void* src, std::size_t bytes);
 void copy_device_to_host(void* dst, const void* src, std::size_t bytes);
+// CUDA managed memory: one address that the host and the device both read and write (the driver moves
+// the pages to whichever touches them). For state that the device steps and the host reads for output.
+void* managed_allocate(std::size_t bytes);
+void managed_free(void* p);
+
+// The allocator of StateVector: ordinary host memory, or managed memory when made with
+// device_visible = true. Copies, moves and swaps carry the allocator along, so that an array assigned
+// from a device-visible one is device-visible too.
+template <class T>
+struct StateAllocator {
+  using value_type = T;
+  using propagate_on_container_copy_assignment = std::true_type;
+  using propagate_on_container_move_assignment = std::true_type;
+  using propagate_on_container_swap = std::true_type;
+  bool device_visible = false;
+
+  StateAllocator() = default;
+  explicit StateAllocator(bool visible) : device_visible(visible) {}
+  template <class U>
+  StateAllocator(const StateAllocator<U>& o) : device_visible(o.device_visible) {}
+  T* allocate(std::size_t n) {
+    return device_visible ? static_cast<T*>(managed_allocate(n * sizeof(T))) : std::allocator<T>{}.allocate(n);
+  }
+  void deallocate(T* p, std::size_t n) {
+    if (device_visible) managed_free(p);
+    else std::allocator<T>{}.deallocate(p, n);
+  }
+  template <class U>
+  bool operator==(const StateAllocator<U>& o) const { return device_visible == o.device_visible; }
+};
+
+// Per-particle state of a solver that may step on the device (structure/tlsph.hpp).
+template <class T>
+using StateVector = std::vector<T, StateAllocator<T>>;
+
+// Moves v's contents into managed memory (the device can then read and write it).
+template <class T>
+void make_device_visible(StateVector<T>& v) {
+  v = StateVector<T>(v.begin(), v.end(), StateAllocator<T>(true));
+}
+
+// Launches recorded once on a stream of their own and replayed as one CUDA graph: many small launches
+// (a structure's substep) then cost one launch. Without CUDA every call throws.
+class LaunchGraph {
+ public:
+  LaunchGraph();
+  ~LaunchGraph();
+  LaunchGraph(const LaunchGraph&) = delete;
+  LaunchGraph& operator=(const LaunchGraph&) = delete;
+
+  // Launches that go to this graph's stream without waiting (to record them, or to run them directly).
+  Exec exec() const { return Exec{Device::cuda, stream_, false}; }
+  // Records what `launches` sends to exec() as the graph (replacing the one recorded before).
+  void record(const std::function<void(const Exec&)>& launches);
+  bool recorded() const { return graph_ != nullptr; }
+  // Runs the recorded graph on the stream (without waiting).
+  void replay();
+  // Waits for everything sent to the stream.
+  void synchronize();
+
+ private:
+  void release();
+  void* stream_ = nullptr;  // cudaStream_t
+  void* graph_ = nullptr;   // cudaGraphExec_t
+};
 
 // An array in device memory, filled from and read back into host vectors.
 template <class T>

@@ -26,6 +26,8 @@ inline const char* device_name(Device d) { return d == Device::cpu ? "cpu" : "cu
 
 struct Exec {
   Device device = Device::cpu;
+  void* stream = nullptr;  // cuda: the stream (cudaStream_t) launches go to; null: the default stream
+  bool wait = true;        // cuda: wait for each launch to finish (false: the caller synchronizes)
 };
 
 #if defined(__CUDACC__)
@@ -35,15 +37,17 @@ __global__ void particle_loop_kernel(F f, Index n) {
   if (i < n) f(i);
 }
 
-// Launches f over [0, n) on the current CUDA device and waits for it; throws on a launch error.
+// Launches f over [0, n) on the current CUDA device, on exec's stream, and waits for it unless told not
+// to; throws on a launch error.
 template <class F>
-void cuda_parallel_for(Index n, const F& f) {
+void cuda_parallel_for(const Exec& exec, Index n, const F& f) {
   if (n <= 0) return;
   constexpr int block = 256;
   const int grid = static_cast<int>((n + block - 1) / block);
-  particle_loop_kernel<<<grid, block>>>(f, n);
+  const auto stream = static_cast<cudaStream_t>(exec.stream);
+  particle_loop_kernel<<<grid, block, 0, stream>>>(f, n);
   cudaError_t err = cudaGetLastError();
-  if (err == cudaSuccess) err = cudaDeviceSynchronize();
+  if (err == cudaSuccess && exec.wait) err = cudaStreamSynchronize(stream);
   if (err != cudaSuccess) throw std::runtime_error(std::string("CUDA launch failed: ") + cudaGetErrorString(err));
 }
 #endif
@@ -58,7 +62,7 @@ template <class F>
 void parallel_for(const Exec& exec, Index n, const F& f) {
   if (exec.device == Device::cuda) {
 #if defined(__CUDACC__)
-    cuda_parallel_for(n, f);
+    cuda_parallel_for(exec, n, f);
     return;
 #else
     not_compiled_for_cuda("parallel_for");

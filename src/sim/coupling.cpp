@@ -70,7 +70,7 @@ StructureCoupling<D>::StructureCoupling(TlsphSetup<D> setup, const CouplingSpec&
   const Index n = solver_.size();
   for (auto* v : {&force_density_, &interaction_, &a_guess_, &a_new_, &v_new_})
     v->assign(n, Vec<D>::zero());
-  v_mean_ = solver_.velocity();
+  v_mean_.assign(solver_.velocity().begin(), solver_.velocity().end());
   density_.resize(n);
   for (Index a = 0; a < n; ++a) density_[a] = solver_.density(a);
 }
@@ -106,7 +106,7 @@ FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid
   quasi_newton_.begin_step();
   timer.time("structure", [&] {
     solver_.save_state();
-    x_old_ = solver_.position();
+    x_old_.assign(solver_.position().begin(), solver_.position().end());
   });
   const Real floor = g_norm_ * std::sqrt(static_cast<Real>(n));  // |g| on every particle
   int iteration = 0, count = 0;
@@ -163,7 +163,7 @@ void StructureCoupling<D>::explicit_step(Real t, Real dt, WcsphSolver<D>& fluid,
   Real work = 0;
   int count = 0;
   timer.time("structure", [&] {
-    x_old_ = solver_.position();
+    x_old_.assign(solver_.position().begin(), solver_.position().end());
     count = substep(t, dt, work);
     solver_.update_stress();
     for (Index a = 0; a < n; ++a) v_new_[a] = (1.0 / dt) * (solver_.position()[a] - x_old_[a]);

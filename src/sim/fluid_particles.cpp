@@ -146,8 +146,8 @@ Real FluidParticles<D>::moving_wall_power() const {
 }
 
 template <int D>
-void FluidParticles<D>::move_structure(const std::vector<Vec<D>>& x, const std::vector<Vec<D>>& v,
-                                       const std::vector<Mat<D>>& F) {
+void FluidParticles<D>::move_structure(std::span<const Vec<D>> x, std::span<const Vec<D>> v,
+                                       std::span<const Mat<D>> F) {
   parallel_for(exec_, size(), FollowStructure<D>{structure_index_.data(), x.data(), v.data(), F.data(),
                                                  reference_normal_.data(), x_.data(), u_.data(), wall_velocity_.data(),
                                                  wall_normal_.data()});

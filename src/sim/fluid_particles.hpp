@@ -5,6 +5,7 @@
 // own step: the projection ISPH of seed 001 (sim/isph.hpp) and the weakly compressible comparator of
 // seed 002 (sim/wcsph.hpp).
 #include <limits>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -133,7 +134,7 @@ class FluidParticles {
 
   // Structure particles follow the TLSPH solver: positions, velocities and deformation gradients,
   // indexed as in the TLSPH solver. The surface normals turn with F: n = F^{-T} N / |F^{-T} N|.
-  void move_structure(const std::vector<Vec<D>>& x, const std::vector<Vec<D>>& v, const std::vector<Mat<D>>& F);
+  void move_structure(std::span<const Vec<D>> x, std::span<const Vec<D>> v, std::span<const Mat<D>> F);
   // The structure's acceleration over the current step (a_s, what the boundary pressure of structure
   // particles balances), indexed as in the TLSPH solver.
   virtual void set_structure_acceleration(const std::vector<Vec<D>>& a);

@@ -73,8 +73,11 @@ TEST(DeviceSolvers, CusparseProductMatchesTheHostProduct) {
   }
 }
 
-// The same algorithm on both devices: equal iteration counts (to one, as dot products are summed in
-// another order) and solutions within the tolerance's reach of each other.
+// The same algorithm on both devices. The first 20 iterations give the same iterate (to 1e-10: only the
+// summation order of the dot products differs, cuBLAS's against the host's OpenMP reduction). Whole
+// solves to 1e-10 both converge, to solutions within the tolerance's reach of each other; their
+// iteration counts agree to 10 % (on the H200, 106 on the host and 112 on the device with Jacobi: the
+// last iterations of BiCGSTAB are sensitive to rounding).
 TEST(DeviceSolvers, CudaBicgstabMatchesNativeWithEveryPreconditioner) {
   ISPH_SKIP_WITHOUT_GPU();
   unsigned seed = 21;
@@ -89,15 +92,28 @@ TEST(DeviceSolvers, CudaBicgstabMatchesNativeWithEveryPreconditioner) {
     s.tolerance = 1e-10;
     s.max_iterations = 3000;
     s.backend = "native";
-    std::vector<double> x_host, x_device(A.rows, std::nan(""));  // a NaN guess is replaced by zero
-    const auto rh = make_linear_solver(s)->solve(A, b, x_host);
+    const auto solve = [&](const std::string& backend, int max_iterations, std::vector<double>& x) {
+      SolverSettings t = s;
+      t.backend = backend;
+      t.max_iterations = max_iterations;
+      return make_linear_solver(t)->solve(A, b, x);
+    };
+    std::vector<double> early_host, early_device(A.rows, std::nan(""));  // a NaN guess is replaced by zero
+    const auto eh = solve("native", 20, early_host), ed = solve("cuda", 20, early_device);
+    ASSERT_EQ(eh.iterations, 20) << preconditioner;
+    ASSERT_EQ(ed.iterations, 20) << preconditioner;
+    EXPECT_LT(relative_difference(early_device, early_host), 1e-10) << preconditioner;
+
+    std::vector<double> x_host, x_device;
+    const auto rh = solve("native", s.max_iterations, x_host);
     s.backend = "cuda";
     auto solver = make_linear_solver(s);
     EXPECT_EQ(solver->name(), "cuda-bicgstab-" + preconditioner);
     const auto rd = solver->solve(A, b, x_device);
     ASSERT_TRUE(rh.converged) << preconditioner << ": " << rh.message;
     ASSERT_TRUE(rd.converged) << preconditioner << ": " << rd.message;
-    EXPECT_LE(std::abs(rd.iterations - rh.iterations), 1) << preconditioner;
+    EXPECT_LE(std::abs(rd.iterations - rh.iterations), std::max(2, rh.iterations / 10))
+        << preconditioner << ": " << rd.iterations << " on the device, " << rh.iterations << " on the host";
     EXPECT_LT(relative_difference(x_device, x_host), 1e-8) << preconditioner;
     EXPECT_LT(relative_difference(x_device, x_star), 1e-7) << preconditioner;
 

@@ -3,7 +3,10 @@
 
 #include <cmath>
 #include <random>
+#include <stdexcept>
+#include <string>
 
+#include "core/device_memory.hpp"
 #include "structure/tlsph.hpp"
 
 using namespace isph;
@@ -201,4 +204,16 @@ TEST(Tlsph3D, AffineMapsAndRigidRotation) {
   R(0, 0) = c, R(0, 2) = sn, R(2, 0) = -sn, R(2, 2) = c;
   move(R);
   EXPECT_LT(solver.strain_energy(), 1e-20);
+}
+
+// Asking for the device where none is visible (or in a build without CUDA) is an error that says so;
+// on a machine with a GPU the device tests cover the structure solver there.
+TEST(Tlsph, CudaWithoutADeviceIsAClearError) {
+  if (cuda_devices() > 0) GTEST_SKIP() << "a CUDA device is visible";
+  try {
+    TlsphSolver<2> solver(block(6, 3, 0.01, 1, StructureIntegrator::rk4), Exec{Device::cuda});
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("none is visible"), std::string::npos) << e.what();
+  }
 }

@@ -1,0 +1,77 @@
+#!/bin/bash
+# The GPU checks and benchmarks of issue 5 in one command, for a lent GPU machine (docs/PERFORMANCE.md).
+#
+#   bash bench/gpu_session.sh BUILD_DIR OUT_DIR [STEP...]
+#
+# BUILD_DIR holds a CUDA build (cmake -DISPH_CUDA=ON; HDF5 and hypre may be off). If its programs do
+# not start on this machine (other system libraries), the script configures and builds one in
+# build-device, taking Eigen, toml11, CLI11 and GoogleTest from the Debian packages in .deps/debs
+# (apt-get download libeigen3-dev libtoml11-dev libcli11-dev libgtest-dev), since the GPU machine has
+# no package registry.
+# Steps (default: all): tests  sanitize  pairs  spmv  solvers  substeps  plate
+#   tests   : the device tests with ISPH_REQUIRE_GPU_TESTS=1 (a skip is a failure)
+#   sanitize: the device tests under compute-sanitizer memcheck (out-of-bounds and misaligned accesses)
+#   pairs   : isph_pair_bench, 1e4 to 4e6 particles, host (all cores) and GPU
+#   spmv    : isph_ppe_bench --spmv-only, cuSPARSE and host SpMV against the copy bandwidth
+#   solvers : isph_ppe_bench, every backend on the manufactured PPE at 1e5 and 1e6 unknowns
+#   substeps: isph_substep_bench, one RK4 structure step from 540 to 2e6 particles: host, device with
+#             launches one by one, device with a CUDA graph
+#   plate   : the oscillating plate (cases/oscillating_plate.toml) at T/dx = 10 (0.7 s) and 20 (0.2 s) on
+#             the cpu (all cores) and with --device cuda; the tip histories are compared (to 1e-8)
+# Logs and tables go to OUT_DIR.
+set -u -o pipefail
+build=${1:?build directory}
+out=${2:?output directory}
+shift 2
+steps=${*:-tests sanitize pairs spmv solvers substeps plate}
+mkdir -p "$out"
+export LD_LIBRARY_PATH=/usr/local/cuda/lib64:/usr/local/cuda/lib:${LD_LIBRARY_PATH:-}
+
+nvidia-smi --query-gpu=name,memory.total,driver_version,clocks.sm,clocks.mem --format=csv | tee "$out/gpu.txt"
+nproc | sed 's/^/cores: /' | tee -a "$out/gpu.txt"
+
+if ! "$build/isph_device_tests" --gtest_list_tests >/dev/null 2>&1; then
+  echo "programs in $build do not start here; building in build-device"
+  mkdir -p .deps/root && for f in .deps/debs/*.deb; do dpkg -x "$f" .deps/root; done
+  cmake -S . -B build-device -DISPH_CUDA=ON -DISPH_HDF5=OFF -DISPH_HYPRE=OFF \
+    -DCMAKE_PREFIX_PATH="$PWD/.deps/root/usr" >"$out/build.log" 2>&1 &&
+    cmake --build build-device -j "$(nproc)" --target isph isph_device_tests isph_pair_bench isph_ppe_bench \
+      >>"$out/build.log" 2>&1 || { tail -40 "$out/build.log"; exit 1; }
+  build=build-device
+fi
+
+status=0
+for step in $steps; do
+  start=$(date +%s)
+  case $step in
+    tests)
+      ISPH_REQUIRE_GPU_TESTS=1 "$build/isph_device_tests" 2>&1 | tee "$out/device_tests.log" | grep -E "^\[  (PASSED|FAILED|SKIPPED) |OK \]|FAILED|Failure" || status=1 ;;
+    sanitize)
+      ISPH_REQUIRE_GPU_TESTS=1 compute-sanitizer --tool memcheck --leak-check no "$build/isph_device_tests" \
+        >"$out/sanitizer.log" 2>&1 || status=1
+      tail -3 "$out/sanitizer.log" ;;
+    pairs)
+      "$build/isph_pair_bench" 1e4 1e5 1e6 4e6 2>&1 | tee "$out/pair_bench.md" || status=1 ;;
+    spmv)
+      "$build/isph_ppe_bench" --spmv-only 1e5 1e6 4e6 2>&1 | tee "$out/spmv_bench.md" || status=1 ;;
+    solvers)
+      "$build/isph_ppe_bench" --skip-over 40 1e5 1e6 2>&1 | tee "$out/solver_bench.md" || status=1 ;;
+    substeps)
+      "$build/isph_substep_bench" 2>&1 | tee "$out/substep_bench.md" || status=1 ;;
+    plate)
+      for spec in "10 0.002 0.7" "20 0.001 0.2"; do
+        read -r res dx end <<<"$spec"
+        for device in cpu cuda; do
+          "$build/isph" run cases/oscillating_plate.toml --device $device --out "/tmp/plate_${res}_$device" \
+            --set dx=$dx --set end_time=$end --set output.snapshot_interval=0 >/dev/null 2>&1 || status=1
+          python3 -c "import json,sys; s=json.load(open(sys.argv[1])); p=s['phases']; print('<!-- plate T/dx=$res $device:', s.get('status'), 'steps', s.get('steps'), 'wall', s.get('wall_time_s'), 'phases', p, 'perf', s.get('performance'), '-->')" \
+            "/tmp/plate_${res}_$device/summary.json" | tee -a "$out/plate.md"
+        done
+        python3 bench/compare_probes.py "/tmp/plate_${res}_cpu/probes.csv" "/tmp/plate_${res}_cuda/probes.csv" \
+          | tee -a "$out/plate.md" || status=1
+      done ;;
+    *) echo "unknown step $step"; status=1 ;;
+  esac
+  echo "step $step: $(( $(date +%s) - start )) s"
+done
+exit $status
