@@ -183,16 +183,15 @@ template <int D>
 void TlsphSolver<D>::rk4_launches(const Exec& exec, Real t, Real dt) {
   parallel_for(exec, n_, StartRungeKutta<D>{x_.data(), v_.data(), x0_.data(), v0_.data(), x_sum_.data(), v_sum_.data()});
   constexpr Real w_sum[4] = {1.0 / 6, 1.0 / 3, 1.0 / 3, 1.0 / 6};
-  constexpr Real w_next[4] = {0.5, 0.5, 1.0, 1.0};
+  constexpr Real w_next[4] = {0.5, 0.5, 1.0, 1.0};  // the last unused: that stage writes the result
   constexpr Real t_stage[4] = {0.0, 0.5, 0.5, 1.0};
   for (int k = 0; k < 4; ++k) {
     prescribe_clamps(t + t_stage[k] * dt);
     evaluate(exec, t + t_stage[k] * dt);
     parallel_for(exec, n_,
                  RungeKuttaStage<D>{n_, x0_.data(), v0_.data(), acc_.data(), fixed_.data(), x_.data(), v_.data(),
-                                    x_sum_.data(), v_sum_.data(), dt, w_sum[k], w_next[k]});
+                                    x_sum_.data(), v_sum_.data(), dt, w_sum[k], w_next[k], k == 3});
   }
-  parallel_for(exec, n_, FinishRungeKutta<D>{x_sum_.data(), v_sum_.data(), x_.data(), v_.data()});
   prescribe_clamps(t + dt);
 }
 

@@ -5,7 +5,7 @@
 //
 // On the cuda device the set-up runs on the host; the arrays the loops read then move to managed
 // memory (StateVector), where the device steps them and the host reads them for output. A structure
-// of a few thousand particles is launch-bound (14 launches per RK4 step of a few microseconds each), so
+// of a few thousand particles is launch-bound (13 launches per RK4 step of a few microseconds each), so
 // the RK4 step is recorded once as a CUDA graph and replayed (LaunchGraph); it is recorded again when
 // the step size changes or the interaction field is first allocated, and not used while a load ramps up or a clamp moves (their values
 // change from step to step), where the launches go one by one.

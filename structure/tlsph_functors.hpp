@@ -147,8 +147,9 @@ struct TlsphAcceleration {
 // One stage of an explicit Runge-Kutta update, per particle:
 //   x_sum += w_sum dt v,  v_sum += w_sum dt acc        (accumulate the final combination)
 //   x = x0 + w_next dt v, v = v0 + w_next dt acc       (the next stage's state)
-// Classical RK4 (Eqs. 43-45) uses w_sum = 1/6, 1/3, 1/3, 1/6 and w_next = 1/2, 1/2, 1.
-// Clamped particles keep x = X and v = 0.
+// Classical RK4 (Eqs. 43-45) uses w_sum = 1/6, 1/3, 1/3, 1/6 and w_next = 1/2, 1/2, 1; the last
+// stage writes the step's result instead, x = x_sum, v = v_sum (in place, so that a recorded graph of
+// the step keeps addressing the same arrays). Clamped particles keep x = X and v = 0.
 template <int D>
 struct RungeKuttaStage {
   Index n;
@@ -161,13 +162,19 @@ struct RungeKuttaStage {
   Vec<D>* x_sum;
   Vec<D>* v_sum;
   Real dt, w_sum, w_next;
+  bool last;
   ISPH_HD void operator()(Index a) const {
     if (fixed[a]) return;
     const Vec<D> va = v[a];
     x_sum[a] += (w_sum * dt) * va;
     v_sum[a] += (w_sum * dt) * acc[a];
-    x[a] = x0[a] + (w_next * dt) * va;
-    v[a] = v0[a] + (w_next * dt) * acc[a];
+    if (last) {
+      x[a] = x_sum[a];
+      v[a] = v_sum[a];
+    } else {
+      x[a] = x0[a] + (w_next * dt) * va;
+      v[a] = v0[a] + (w_next * dt) * acc[a];
+    }
   }
 };
 
@@ -183,20 +190,6 @@ struct StartRungeKutta {
   ISPH_HD void operator()(Index a) const {
     x0[a] = x_sum[a] = x[a];
     v0[a] = v_sum[a] = v[a];
-  }
-};
-
-// The end of an RK4 step: x = x_sum, v = v_sum (a copy, not a swap of the arrays, so that a recorded
-// graph of the step keeps addressing the same arrays).
-template <int D>
-struct FinishRungeKutta {
-  const Vec<D>* x_sum;
-  const Vec<D>* v_sum;
-  Vec<D>* x;
-  Vec<D>* v;
-  ISPH_HD void operator()(Index a) const {
-    x[a] = x_sum[a];
-    v[a] = v_sum[a];
   }
 };
 
