@@ -186,6 +186,74 @@ ISPH_HD inline bool solve_small(Real (&a)[N][N], Real (&rhs)[N], Real (&x)[N], R
 
 }  // namespace detail
 
+// Pair gradients exact for quadratic fields (used by TLSPH for the deformation gradient, Eq. 36):
+// per-pair vectors c_ab with  sum_b (f_b - f_a) c_ab = grad f_a  for every quadratic f, also at free
+// surfaces and corners, where L_a g_ab is exact only for linear f (its error there is O(h) times the
+// second derivative: a bent plate's surface particles see the strain of a point inside).
+// c_ab is the smallest correction of L_a g_ab (in sum_b |c_ab - L_a g_ab|^2) that adds exactness for
+// the quadratic monomials. With y_b = (r_b - r_a)/h, p_b = [y ; y_i y_j (i < j), y_i^2 / 2]
+// (m = D + D(D+1)/2 monomials), the Gram matrix G_a = sum_b p_b p_b^T and the quadratic moments
+// Q_a = sum_b L_a g_ab (p_b's quadratic part)^T (D x D(D+1)/2):
+//    c_ab = L_a g_ab + A_a p_b,   A_a G_a = [0 | -Q_a]
+// (the linear columns stay exact, the quadratic ones become exact). On a full, symmetric support
+// Q_a = 0 and c_ab = L_a g_ab. The correction is the smallest possible, which keeps the surface
+// stencils close to the one-sided finite-difference ones (and the stable step close to the linear
+// gradient's; docs/VALIDATION.md section 21).
+// Fallback: when G_a is singular (a body one or two particles thick, too few neighbours), c_ab = L_a g_ab.
+template <int D>
+struct QuadraticGradient {
+  OperatorView<D> v;
+  Vec<D>* pair_gradient;  // one per CSR pair
+  static constexpr int kQuadratic = D * (D + 1) / 2, kMonomials = D + kQuadratic;
+  ISPH_HD void monomials(const Vec<D>& r_ab, Real (&p)[kMonomials]) const {
+    const Vec<D> y = (-1.0 / v.kernel.h) * r_ab;
+    int m = 0;
+    for (int i = 0; i < D; ++i) p[m++] = y[i];
+    for (int i = 0; i < D; ++i)
+      for (int j = i; j < D; ++j) p[m++] = (i == j ? 0.5 : 1.0) * y[i] * y[j];
+  }
+  ISPH_HD void operator()(Index a) const {
+    Mat<D> linear = Mat<D>::zero();
+    for (Index k = v.nbr_offset[a]; k < v.nbr_offset[a + 1]; ++k) {
+      const Index b = v.nbr[k];
+      linear = linear + outer((-1.0) * v.r(a, b), v.volume[b] * v.kernel.gradient(v.r(a, b)));
+    }
+    const Mat<D> L = correction_from_moment(linear);
+    Real gram[kMonomials][kMonomials] = {}, moment[D][kQuadratic] = {};
+    for (Index k = v.nbr_offset[a]; k < v.nbr_offset[a + 1]; ++k) {
+      const Index b = v.nbr[k];
+      Real p[kMonomials];
+      monomials(v.r(a, b), p);
+      const Vec<D> Lg = L * (v.volume[b] * v.kernel.gradient(v.r(a, b)));
+      for (int i = 0; i < kMonomials; ++i)
+        for (int j = 0; j < kMonomials; ++j) gram[i][j] += p[i] * p[j];
+      for (int d = 0; d < D; ++d)
+        for (int q = 0; q < kQuadratic; ++q) moment[d][q] += Lg[d] * p[D + q];
+    }
+    // row d of A_a solves G_a A_d = [0 ; -Q_a row d] (G_a is symmetric)
+    Real A[D][kMonomials];
+    bool solved = true;
+    for (int d = 0; d < D && solved; ++d) {
+      Real sys[kMonomials][kMonomials], rhs[kMonomials] = {};
+      for (int i = 0; i < kMonomials; ++i)
+        for (int j = 0; j < kMonomials; ++j) sys[i][j] = gram[i][j];
+      for (int q = 0; q < kQuadratic; ++q) rhs[D + q] = -moment[d][q];
+      solved = detail::solve_small<kMonomials>(sys, rhs, A[d], 1e-10);
+    }
+    for (Index k = v.nbr_offset[a]; k < v.nbr_offset[a + 1]; ++k) {
+      const Index b = v.nbr[k];
+      Vec<D> c = L * (v.volume[b] * v.kernel.gradient(v.r(a, b)));
+      if (solved) {
+        Real p[kMonomials];
+        monomials(v.r(a, b), p);
+        for (int d = 0; d < D; ++d)
+          for (int i = 0; i < kMonomials; ++i) c[d] += A[d][i] * p[i];
+      }
+      pair_gradient[k] = c;
+    }
+  }
+};
+
 // The Laplacian's weight of pair ab: 2 (e_ab · B^_a g_ab), so that
 //   <lap f>_a = sum_b w_ab ((f_a - f_b)/rho_ab - e_ab · <grad f>_a).
 // Returns 0 for coincident particles (rho_ab = 0). Shared with the PPE assembly.

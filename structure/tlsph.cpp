@@ -16,9 +16,16 @@ StructureIntegrator structure_integrator_from_name(const std::string& name) {
   throw std::invalid_argument("unknown structure integrator '" + name + "' (rk4 | verlet)");
 }
 
+StructureGradient structure_gradient_from_name(const std::string& name) {
+  if (name == "linear") return StructureGradient::linear;
+  if (name == "quadratic") return StructureGradient::quadratic;
+  throw std::invalid_argument("unknown structure gradient '" + name + "' (linear | quadratic)");
+}
+
 template <int D>
 void tlsph_stress(const Exec& exec, const TlsphView<D>& view) {
   parallel_for(exec, view.n, TlsphStress<D>{view});
+  if (view.hourglass > 0 && view.quadratic) parallel_for(exec, view.n, TlsphHourglass<D>{view});
 }
 
 template <int D>
@@ -35,6 +42,7 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
       gravity_(s.gravity),
       damping_(s.damping),
       hourglass_(s.hourglass),
+      quadratic_(s.gradient == StructureGradient::quadratic),
       materials_(s.materials.begin(), s.materials.end()),
       loads_(std::move(s.loads)),
       X_(s.X.begin(), s.X.end()),
@@ -59,42 +67,37 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
   load_acc_.reserve(loads_.size() * n_);
   for (const auto& l : loads_) load_acc_.insert(load_acc_.end(), l.acc.begin(), l.acc.end());
 
-  // Reference configuration (on the host): neighbours within the same body, the correction L (Eq. 35)
-  // and the per-pair kernel gradients.
+  // Reference configuration (on the host): neighbours within the same body and the pair gradients
+  // c_ab (Eq. 35-36: L_a g_ab, or exact for quadratic fields).
   const NeighbourList list = build_neighbour_list<D>(s.X, kernel_.support(), s.body.data());
   nbr_offset_.assign(list.offset.begin(), list.offset.end());
   nbr_.assign(list.index.begin(), list.index.end());
-  grad_.resize(nbr_.size());
   cgrad_.resize(nbr_.size());
   hg_weight_.resize(nbr_.size());
-  L_.resize(n_);
-  if (s.correction)
-    parallel_for(Exec{}, n_,
-                 GradientCorrection<D>{{n_, X_.data(), volume_.data(), nbr_offset_.data(), nbr_.data(), kernel_}, L_.data()});
-  else
-    L_.assign(n_, Mat<D>::identity());
-  for (Index a = 0; a < n_; ++a)
-    for (Index k = nbr_offset_[a]; k < nbr_offset_[a + 1]; ++k) {
-      const Index b = nbr_[k];
-      const Vec<D> Xab = X_[a] - X_[b];
-      grad_[k] = volume_[b] * kernel_.gradient(Xab);
-      cgrad_[k] = L_[a] * grad_[k];
-      hg_weight_[k] = volume_[b] * kernel_.value(std::sqrt(norm2(Xab))) / norm2(Xab);
-    }
-  // Hourglass control needs, per pair (a, b), the corrected gradient of the reverse pair (b, a),
-  // and per particle the sum of its corrected gradients.
+  const OperatorView<D> reference{n_, X_.data(), volume_.data(), nbr_offset_.data(), nbr_.data(), kernel_};
+  if (s.gradient == StructureGradient::quadratic) {
+    parallel_for(Exec{}, n_, QuadraticGradient<D>{reference, cgrad_.data()});
+  } else {
+    std::vector<Mat<D>> L(n_, Mat<D>::identity());
+    if (s.gradient == StructureGradient::linear) parallel_for(Exec{}, n_, GradientCorrection<D>{reference, L.data()});
+    for (Index a = 0; a < n_; ++a)
+      for (Index k = nbr_offset_[a]; k < nbr_offset_[a + 1]; ++k)
+        cgrad_[k] = L[a] * (volume_[nbr_[k]] * kernel_.gradient(X_[a] - X_[nbr_[k]]));
+  }
+  // Per pair (a, b): the hourglass weight and the reverse pair's gradient c_ba; per particle S_a.
   rcgrad_.resize(nbr_.size());
   cgrad_sum_.assign(n_, Vec<D>::zero());
   for (Index a = 0; a < n_; ++a)
     for (Index k = nbr_offset_[a]; k < nbr_offset_[a + 1]; ++k) {
       const Index b = nbr_[k];
+      const Vec<D> Xab = X_[a] - X_[b];
+      hg_weight_[k] = volume_[b] * kernel_.value(std::sqrt(norm2(Xab))) / norm2(Xab);
       cgrad_sum_[a] += cgrad_[k];
       const auto first = nbr_.begin() + nbr_offset_[b], last = nbr_.begin() + nbr_offset_[b + 1];
       rcgrad_[k] = cgrad_[std::find(first, last, a) - nbr_.begin()];  // the list is symmetric
     }
   F_.assign(n_, Mat<D>::identity());
-  PL_.assign(n_, Mat<D>::zero());
-  H_.assign(n_, Mat<D>::zero());
+  stress_.assign(n_, Mat<D>::zero());
   psi_.assign(n_, 0);
   for (auto* v : {&x0_, &v0_, &x_sum_, &v_sum_, &saved_x_, &saved_v_, &saved_acc_}) v->assign(n_, Vec<D>::zero());
   if (exec_.device == Device::cuda) {
@@ -111,10 +114,10 @@ void TlsphSolver<D>::make_state_device_visible() {
   make_device_visible(material_);
   make_device_visible(fixed_);
   make_device_visible(nbr_offset_), make_device_visible(nbr_);
-  for (auto* v : {&load_acc_, &interaction_, &X_, &x_, &v_, &acc_, &grad_, &cgrad_, &rcgrad_, &cgrad_sum_, &x0_, &v0_,
+  for (auto* v : {&load_acc_, &interaction_, &X_, &x_, &v_, &acc_, &cgrad_, &rcgrad_, &cgrad_sum_, &x0_, &v0_,
                   &x_sum_, &v_sum_, &saved_x_, &saved_v_, &saved_acc_})
     make_device_visible(*v);
-  for (auto* m : {&L_, &F_, &PL_, &H_}) make_device_visible(*m);
+  for (auto* m : {&F_, &stress_}) make_device_visible(*m);
 }
 
 template <int D>
@@ -124,14 +127,11 @@ TlsphView<D> TlsphSolver<D>::view() {
   s.X = X_.data();
   s.nbr_offset = nbr_offset_.data();
   s.nbr = nbr_.data();
-  s.grad = grad_.data();
   s.cgrad = cgrad_.data();
   s.hg_weight = hg_weight_.data();
   s.rcgrad = rcgrad_.data();
   s.cgrad_sum = cgrad_sum_.data();
   s.volume = volume_.data();
-  s.H = H_.data();
-  s.L = L_.data();
   s.material = material_.data();
   s.materials = materials_.data();
   s.fixed = fixed_.data();
@@ -143,8 +143,9 @@ TlsphView<D> TlsphSolver<D>::view() {
   s.interaction = interaction_.empty() ? nullptr : interaction_.data();
   s.damping = damping_;
   s.hourglass = hourglass_;
+  s.quadratic = quadratic_;
   s.F = F_.data();
-  s.PL = PL_.data();
+  s.stress = stress_.data();
   s.psi = psi_.data();
   s.acc = acc_.data();
   return s;

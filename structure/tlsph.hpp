@@ -5,7 +5,7 @@
 //
 // On the cuda device the set-up runs on the host; the arrays the loops read then move to managed
 // memory (StateVector), where the device steps them and the host reads them for output. A structure
-// of a few thousand particles is launch-bound (13 launches per RK4 step of a few microseconds each), so
+// of a few thousand particles is launch-bound (13 launches per RK4 step of a few microseconds each; 17 with quadratic gradients and hourglass control), so
 // the RK4 step is recorded once as a CUDA graph and replayed (LaunchGraph); it is recorded again when
 // the step size changes or the interaction field is first allocated, and not used while a load ramps up or a clamp moves (their values
 // change from step to step), where the launches go one by one.
@@ -24,6 +24,11 @@ namespace isph {
 
 enum class StructureIntegrator { rk4, verlet };
 StructureIntegrator structure_integrator_from_name(const std::string& name);
+
+// The pair gradients c_ab of the deformation gradient: uncorrected (g_ab), kernel-corrected (L_a g_ab,
+// exact for linear fields; Eq. 35-36) or exact for quadratic fields (QuadraticGradient).
+enum class StructureGradient { uncorrected, linear, quadratic };
+StructureGradient structure_gradient_from_name(const std::string& name);
 
 // An applied load: a per-particle acceleration at full load, ramped linearly over ramp_time.
 template <int D>
@@ -46,7 +51,7 @@ struct TlsphSetup {
   std::vector<ElasticMaterial> materials;
   std::vector<LoadField<D>> loads;
   SmoothingKernel<D> kernel;
-  bool correction = true;
+  StructureGradient gradient = StructureGradient::linear;
   StructureIntegrator integrator = StructureIntegrator::rk4;
   Vec<D> gravity = Vec<D>::zero();
   Real damping = 0;
@@ -122,6 +127,7 @@ class TlsphSolver {
   StructureIntegrator integrator_;
   Vec<D> gravity_;
   Real damping_, hourglass_;
+  bool quadratic_;  // quadratic-exact pair gradients (and the symmetric hourglass error)
   StateVector<ElasticMaterial> materials_;
   std::vector<LoadField<D>> loads_;
   StateVector<Vec<D>> load_acc_, interaction_;
@@ -133,10 +139,10 @@ class TlsphSolver {
   std::vector<Index> motion_;
   std::vector<RigidMotion<D>> motions_;
   StateVector<Index> nbr_offset_, nbr_;
-  StateVector<Vec<D>> grad_, cgrad_;
+  StateVector<Vec<D>> cgrad_;
   StateVector<Real> hg_weight_;
   StateVector<Vec<D>> rcgrad_, cgrad_sum_;
-  StateVector<Mat<D>> L_, F_, PL_, H_;
+  StateVector<Mat<D>> F_, stress_;
   StateVector<Real> psi_;
   StateVector<Vec<D>> x0_, v0_, x_sum_, v_sum_;  // integrator scratch
   bool verlet_started_ = false;

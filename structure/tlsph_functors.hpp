@@ -34,13 +34,11 @@ struct TlsphView {
   const Vec<D>* X;          // reference positions
   const Index* nbr_offset;  // CSR neighbours in the reference configuration (same body only)
   const Index* nbr;
-  const Vec<D>* grad;       // g_ab = V_b grad_a W(X_a - X_b)
-  const Vec<D>* cgrad;      // L_a g_ab, the corrected gradient (Eq. 35-36)
+  const Vec<D>* cgrad;      // c_ab, the corrected pair gradient of the reference configuration (Eq. 36)
+  const Vec<D>* rcgrad;     // c_ba, the reverse pair's gradient, stored with pair (a, b)
+  const Vec<D>* cgrad_sum;  // S_a = sum_b c_ab
   const Real* hg_weight;    // w_ab = V_b W(|X_ab|) / |X_ab|^2, for hourglass control
-  const Vec<D>* rcgrad;     // the reverse corrected gradient L_b g_ba, stored with pair (a, b)
-  const Vec<D>* cgrad_sum;  // sum_b L_a g_ab
   const Real* volume;
-  const Mat<D>* L;          // gradient correction L_a = K_a^{-T}
   const int* material;
   const ElasticMaterial* materials;
   const unsigned char* fixed;  // clamped particles: prescribed zero displacement
@@ -55,12 +53,65 @@ struct TlsphView {
   const Vec<D>* interaction;  // the fluid's pressure acceleration alpha(f->s) (Eq. 48), or null
   Real damping;    // mass-proportional damping rate [1/s]
   Real hourglass;  // Ganzenmüller's alpha (0 = off)
+  bool quadratic;  // the pair gradients are exact for quadratic fields (the hourglass error is then symmetric)
   // outputs
   Mat<D>* F;       // deformation gradient
-  Mat<D>* PL;      // first Piola-Kirchhoff stress times L: P_a L_a
+  Mat<D>* stress;  // T_a = P_a + kappa H_a: the first Piola-Kirchhoff stress and the hourglass moment
   Real* psi;       // strain energy per unit reference volume (hourglass energy included)
-  Mat<D>* H;       // hourglass moment H_a = sum_b w_ab eps_ab ⊗ X_ab
   Vec<D>* acc;
+};
+
+// The internal energy and the force that derives from it. With pair gradients c_ab fixed in the
+// reference configuration (Eq. 36 with L_a g_ab, or QuadraticGradient), F_a = I + sum_b u_ab ⊗ c_ab
+// and the stored energy
+//   U = sum_a V_a psi(F_a) + kappa/2 sum_a V_a sum_b w_ab |eps_ab|^2
+// (X_ab = X_b - X_a, x_ab = x_b - x_a, kappa = alpha E / 2; eps_ab below), the force per unit mass
+// -dU/dx_a / (rho V_a) is
+//   acc_a = 1/rho_a [ T_a S_a - sum_b (V_b / V_a) T_b c_ba - kappa sum_b w_ab (eps_ab - eps_ba) ]    (*)
+// with S_a = sum_b c_ab, T_a = P_a + kappa H_a, P = F S (St. Venant-Kirchhoff) and
+// H_a = sum_b w_ab eps_ab ⊗ X_ab. Without hourglass control and with c_ab = L_a g_ab, (*) is Eq. 42,
+// sum_b V_b (P_a L_a + P_b L_b) grad_a W_ab / rho_a. The pairs' forces cancel in the sum, so momentum is
+// conserved, and the flow (*) conserves U plus the kinetic energy exactly.
+// Hourglass control (alpha > 0) is a penalty on the part of each pair's deformation that the
+// deformation gradient does not describe, after Ganzenmüller (2015) but derived from an energy:
+//   linear-exact c_ab:     eps_ab = F_a X_ab - x_ab (Ganzenmüller's error; zero for affine maps);
+//   quadratic-exact c_ab:  eps_ab = (F_a + F_b)/2 X_ab - x_ab, zero also for every quadratic
+//                          displacement (F is then linear and the pair's trapezoidal rule exact), so
+//                          that it does not stiffen smooth bending.
+// In both, eps_ab - eps_ba = (F_a + F_b) X_ab - 2 x_ab. Both are positive for the zero-energy
+// (odd-even) modes of the particle gradient. A body's particles share one material, so kappa is the
+// particle's own.
+
+// The pair's antisymmetric hourglass error eps_ab - eps_ba = (F_a + F_b) X_ab - 2 x_ab.
+template <int D>
+ISPH_HD inline Vec<D> hourglass_difference(const TlsphView<D>& s, Index a, Index b) {
+  return (s.F[a] + s.F[b]) * (s.X[b] - s.X[a]) - 2.0 * (s.x[b] - s.x[a]);
+}
+
+// Hourglass control of particle a with its deformation gradient F_a: T_a += kappa H_a and the
+// hourglass energy density kappa/2 sum_b w_ab |eps_ab|^2. The symmetric error (quadratic gradients)
+// reads the neighbours' F, so it runs as a pass of its own after TlsphStress; the one-sided error
+// needs only F_a and runs inside TlsphStress.
+template <int D>
+ISPH_HD inline void add_hourglass(const TlsphView<D>& s, Index a, const Mat<D>& Fa) {
+  Mat<D> H = Mat<D>::zero();
+  Real e = 0;
+  for (Index k = s.nbr_offset[a]; k < s.nbr_offset[a + 1]; ++k) {
+    const Index b = s.nbr[k];
+    const Vec<D> Xab = s.X[b] - s.X[a];
+    const Vec<D> eab = s.quadratic ? 0.5 * hourglass_difference(s, a, b) : Fa * Xab - (s.x[b] - s.x[a]);
+    H = H + s.hg_weight[k] * outer(eab, Xab);
+    e += s.hg_weight[k] * norm2(eab);
+  }
+  const Real kappa = 0.5 * s.hourglass * s.materials[s.material[a]].youngs_modulus;
+  s.stress[a] = s.stress[a] + kappa * H;
+  s.psi[a] += 0.5 * kappa * e;
+}
+
+template <int D>
+struct TlsphHourglass {
+  TlsphView<D> s;
+  ISPH_HD void operator()(Index a) const { add_hourglass(s, a, s.F[a]); }
 };
 
 // Deformation gradient (Eq. 36, written with displacements so that F = I exactly at rest),
@@ -79,39 +130,16 @@ struct TlsphStress {
       for (int i = 0; i < D; ++i)
         for (int j = 0; j < D; ++j) F(i, j) += uab[i] * g[j];
     }
-    const ElasticMaterial m = s.materials[s.material[a]];
     Real psi = 0;
-    const Mat<D> S = svk_stress(F, m, &psi);
+    const Mat<D> S = svk_stress(F, s.materials[s.material[a]], &psi);
     s.F[a] = F;
-    s.PL[a] = (F * S) * s.L[a];
-    if (s.hourglass > 0) {
-      // hourglass energy density (kappa/2) sum_b w_ab |eps_ab|^2 and moment H_a (see TlsphAcceleration)
-      Mat<D> H = Mat<D>::zero();
-      Real e = 0;
-      for (Index k = s.nbr_offset[a]; k < s.nbr_offset[a + 1]; ++k) {
-        const Index b = s.nbr[k];
-        const Vec<D> Xab = s.X[b] - s.X[a];
-        const Vec<D> eps = F * Xab - (s.x[b] - s.x[a]);
-        H = H + s.hg_weight[k] * outer(eps, Xab);
-        e += s.hg_weight[k] * norm2(eps);
-      }
-      s.H[a] = H;
-      psi += 0.25 * s.hourglass * m.youngs_modulus * e;
-    }
+    s.stress[a] = F * S;
     s.psi[a] = psi;
+    if (s.hourglass > 0 && !s.quadratic) add_hourglass(s, a, F);
   }
 };
 
-// Hourglass control (hourglass = alpha > 0): a penalty on the part of each pair's deformation
-// that the particle's deformation gradient does not describe, after Ganzenmüller (2015) but
-// derived from an energy, so that it conserves energy exactly:
-//   U_hg = kappa/2 sum_a V_a sum_b w_ab |eps_ab|^2,  eps_ab = F_a X_ab - x_ab,  kappa = alpha E / 2,
-// with X_ab = X_b - X_a, x_ab = x_b - x_a, w_ab = V_b W_ab / |X_ab|^2. U_hg is zero for every affine
-// deformation and positive for the zero-energy (odd-even) modes of the particle gradient; for a
-// smooth field eps_ab = O(|X_ab|^2), so its share of the energy vanishes as dx^2. Its force per unit
-// mass, with G_ab = L_a g_ab, H_a = sum_b w_ab eps_ab ⊗ X_ab and S_a = sum_b G_ab, is
-//   -dU_hg/dx_a / (rho V_a) = -kappa/rho_a [ sum_b w_ab (eps_ab - eps_ba) + sum_b (V_b/V_a) H_b G_ba - H_a S_a ],
-// where eps_ab - eps_ba = (F_a + F_b) X_ab - 2 x_ab.
+// The acceleration (*) above, plus gravity, damping, the applied loads and the fluid's interaction.
 template <int D>
 struct TlsphAcceleration {
   TlsphView<D> s;
@@ -121,21 +149,12 @@ struct TlsphAcceleration {
       return;
     }
     const ElasticMaterial m = s.materials[s.material[a]];
-    const Mat<D> PLa = s.PL[a];
-    Vec<D> f = Vec<D>::zero();
-    for (Index k = s.nbr_offset[a]; k < s.nbr_offset[a + 1]; ++k) f += (PLa + s.PL[s.nbr[k]]) * s.grad[k];
-    if (s.hourglass > 0) {
-      const Mat<D> Fa = s.F[a];
-      const Real kappa = 0.5 * s.hourglass * m.youngs_modulus;
-      Vec<D> h = -1.0 * (s.H[a] * s.cgrad_sum[a]);
-      for (Index k = s.nbr_offset[a]; k < s.nbr_offset[a + 1]; ++k) {
-        const Index b = s.nbr[k];
-        const Vec<D> Xab = s.X[b] - s.X[a];
-        const Vec<D> xab = s.x[b] - s.x[a];
-        h += s.hg_weight[k] * ((Fa + s.F[b]) * Xab - 2.0 * xab);  // w_ab (eps_ab - eps_ba)
-        h += (s.volume[b] / s.volume[a]) * (s.H[b] * s.rcgrad[k]);
-      }
-      f += -kappa * h;
+    const Real kappa = 0.5 * s.hourglass * m.youngs_modulus;
+    Vec<D> f = s.stress[a] * s.cgrad_sum[a];
+    for (Index k = s.nbr_offset[a]; k < s.nbr_offset[a + 1]; ++k) {
+      const Index b = s.nbr[k];
+      f += (-s.volume[b] / s.volume[a]) * (s.stress[b] * s.rcgrad[k]);
+      if (s.hourglass > 0) f += (-kappa * s.hg_weight[k]) * hourglass_difference(s, a, b);
     }
     Vec<D> acc = (1.0 / m.density) * f + s.gravity - s.damping * s.v[a];
     for (int l = 0; l < s.loads; ++l) acc += s.load_factor[l] * s.load_acc[static_cast<long>(l) * s.n + a];

@@ -561,7 +561,7 @@ Scene<D> build_scene(const CaseSpec& spec) {
   if (!problems.empty()) throw CaseError(problems);
 
   s.kernel = kernel;
-  s.correction = spec.kernel.correction;
+  s.gradient = spec.kernel.correction ? structure_gradient_from_name(spec.structure.gradient) : StructureGradient::uncorrected;
   s.integrator = structure_integrator_from_name(spec.structure.integrator);
   s.gravity = to_vec<D>(spec.gravity);
   s.damping = spec.structure.damping;

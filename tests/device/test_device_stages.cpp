@@ -81,12 +81,10 @@ TEST(DeviceStages, TlsphStressAndAccelerationCudaMatchesCpu) {
     TlsphView<2> h = solver.view();
     const Index n = h.n, pairs = solver.pairs();
     auto vec = [](const auto* p, std::size_t k) { return std::vector<std::remove_cv_t<std::remove_pointer_t<decltype(p)>>>(p, p + k); };
-    DeviceArray<Vec<2>> X(vec(h.X, n)), x(vec(h.x, n)), v(vec(h.v, n)), grad(vec(h.grad, pairs)),
-        cgrad(vec(h.cgrad, pairs)), rcgrad(vec(h.rcgrad, pairs)), cgrad_sum(vec(h.cgrad_sum, n)),
+    DeviceArray<Vec<2>> X(vec(h.X, n)), x(vec(h.x, n)), v(vec(h.v, n)), cgrad(vec(h.cgrad, pairs)), rcgrad(vec(h.rcgrad, pairs)), cgrad_sum(vec(h.cgrad_sum, n)),
         load(std::vector<Vec<2>>(1, Vec<2>::zero()));
     DeviceArray<Index> off(vec(h.nbr_offset, n + 1)), nbr(vec(h.nbr, pairs));
     DeviceArray<Real> hg_weight(vec(h.hg_weight, pairs)), volume(vec(h.volume, n));
-    DeviceArray<Mat<2>> L(vec(h.L, n));
     DeviceArray<int> mat(vec(h.material, n));
     DeviceArray<ElasticMaterial> mats(vec(h.materials, 1));
     DeviceArray<unsigned char> fixed(vec(h.fixed, n));
@@ -94,16 +92,16 @@ TEST(DeviceStages, TlsphStressAndAccelerationCudaMatchesCpu) {
     std::vector<Real> poisoned_r(n);
     std::vector<Vec<2>> poisoned_v(n);
     poison(poisoned_m), poison(poisoned_r), poison(poisoned_v);
-    DeviceArray<Mat<2>> F(poisoned_m), PL(poisoned_m), H(poisoned_m);
+    DeviceArray<Mat<2>> F(poisoned_m), stress(poisoned_m);
     DeviceArray<Real> psi(poisoned_r);
     DeviceArray<Vec<2>> acc(poisoned_v);
 
     TlsphView<2> d = h;
-    d.X = X.data(), d.x = x.data(), d.v = v.data(), d.grad = grad.data(), d.cgrad = cgrad.data();
+    d.X = X.data(), d.x = x.data(), d.v = v.data(), d.cgrad = cgrad.data();
     d.rcgrad = rcgrad.data(), d.cgrad_sum = cgrad_sum.data(), d.hg_weight = hg_weight.data(), d.volume = volume.data();
-    d.nbr_offset = off.data(), d.nbr = nbr.data(), d.L = L.data(), d.material = mat.data(), d.materials = mats.data();
+    d.nbr_offset = off.data(), d.nbr = nbr.data(), d.material = mat.data(), d.materials = mats.data();
     d.fixed = fixed.data(), d.load_acc = load.data(), d.loads = 0;
-    d.F = F.data(), d.PL = PL.data(), d.H = H.data(), d.psi = psi.data(), d.acc = acc.data();
+    d.F = F.data(), d.stress = stress.data(), d.psi = psi.data(), d.acc = acc.data();
 
     tlsph_stress(Exec{Device::cpu}, h);
     tlsph_acceleration(Exec{Device::cpu}, h);

@@ -1,10 +1,12 @@
 // TLSPH: deformation gradient, stress, momentum and the time integrators.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "core/device_memory.hpp"
 #include "structure/tlsph.hpp"
@@ -54,9 +56,52 @@ TEST(Tlsph, DeformationGradientExactForAffineMaps) {
       for (int j = 0; j < 2; ++j) ASSERT_NEAR(solver.deformation_gradient()[a](i, j), A(i, j), 1e-12);
 }
 
+// With quadratic-exact pair gradients F is exact for a quadratic displacement at every particle,
+// corners included, where the linear-exact gradient is off by O(h) times the curvature; and the
+// symmetric hourglass energy of such a field is zero (it does not stiffen smooth bending).
+TEST(Tlsph, QuadraticGradientIsExactForQuadraticFields) {
+  const Real k = 2.0;  // u = (-k x y, k x^2 / 2 + 0.3 k y^2): bending plus a transverse quadratic
+  auto displacement = [&](const Vec<2>& X) { return Vec<2>{{-k * X[0] * X[1], 0.5 * k * X[0] * X[0] + 0.3 * k * X[1] * X[1]}}; };
+  auto gradient = [&](const Vec<2>& X) {
+    Mat<2> F = Mat<2>::identity();
+    F(0, 0) += -k * X[1], F(0, 1) += -k * X[0], F(1, 0) += k * X[0], F(1, 1) += 0.6 * k * X[1];
+    return F;
+  };
+  Real worst[2] = {0, 0};
+  for (StructureGradient g : {StructureGradient::linear, StructureGradient::quadratic}) {
+    auto s = block(12, 6, 0.01, 0, StructureIntegrator::rk4);
+    s.gradient = g;
+    s.hourglass = 5;
+    TlsphSolver<2> solver(s);
+    TlsphView<2> v = solver.view();
+    auto* x = const_cast<Vec<2>*>(v.x);
+    for (Index a = 0; a < v.n; ++a) x[a] = v.X[a] + displacement(v.X[a]);
+    tlsph_stress(Exec{}, v);
+    Real& w = worst[g == StructureGradient::quadratic];
+    for (Index a = 0; a < v.n; ++a) {
+      const Mat<2> F = gradient(v.X[a]);
+      for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j) w = std::max(w, std::abs(v.F[a](i, j) - F(i, j)));
+    }
+    if (g == StructureGradient::quadratic) {
+      // strain energy without the hourglass part
+      Real elastic = 0, stored = 0;
+      for (Index a = 0; a < v.n; ++a) {
+        Real psi = 0;
+        svk_stress(v.F[a], s.materials[0], &psi);
+        elastic += v.volume[a] * psi;
+        stored += v.volume[a] * v.psi[a];
+      }
+      EXPECT_NEAR(stored, elastic, 1e-10 * elastic);
+    }
+  }
+  EXPECT_LT(worst[1], 1e-10);
+  EXPECT_GT(worst[0], 1e-3);  // the linear-exact gradient at the edges: O(h k) = 0.012 k
+}
+
 TEST(Tlsph, WithoutCorrectionFIsNotExactAtEdges) {
   auto s = block(12, 6, 0.01, 0, StructureIntegrator::rk4);
-  s.correction = false;
+  s.gradient = StructureGradient::uncorrected;
   TlsphSolver<2> solver(s);
   Mat<2> A = Mat<2>::identity();
   A(0, 0) = 1.1;
@@ -107,9 +152,11 @@ TEST(Tlsph, StretchedBlockPullsBackAndConservesMomentum) {
 // The hourglass force is the exact negative gradient of the hourglass energy (so that energy is
 // conserved): compare the acceleration with a central finite difference of the total energy.
 TEST(Tlsph, InternalForceIsTheGradientOfTheStoredEnergy) {
-  for (Real alpha : {0.0, 10.0}) {
+  for (auto [alpha, gradient] : {std::pair{0.0, StructureGradient::linear}, std::pair{10.0, StructureGradient::linear},
+                                 std::pair{0.0, StructureGradient::quadratic}, std::pair{10.0, StructureGradient::quadratic}}) {
     auto s = block(8, 5, 0.01, 0, StructureIntegrator::rk4);
     s.hourglass = alpha;
+    s.gradient = gradient;
     TlsphSolver<2> solver(s);
     TlsphView<2> v = solver.view();
     auto* x = const_cast<Vec<2>*>(v.x);
@@ -133,7 +180,7 @@ TEST(Tlsph, InternalForceIsTheGradientOfTheStoredEnergy) {
         const Real down = energy();
         x[a][d] = keep;
         const Real force = -(up - down) / (2 * e);
-        EXPECT_NEAR(acc[a][d] * mass, force, 1e-5 * std::abs(force) + 1e-3) << "alpha " << alpha << " particle " << a;
+        EXPECT_NEAR(acc[a][d] * mass, force, 1e-5 * std::abs(force) + 1e-3) << "alpha " << alpha << " gradient " << int(gradient) << " particle " << a;
       }
   }
 }
