@@ -199,57 +199,44 @@ ISPH_HD inline bool solve_small(Real (&a)[N][N], Real (&rhs)[N], Real (&x)[N], R
 // Q_a = 0 and c_ab = L_a g_ab. The correction is the smallest possible, which keeps the surface
 // stencils close to the one-sided finite-difference ones (and the stable step close to the linear
 // gradient's; docs/VALIDATION.md section 21).
-// Fallback: when G_a is singular (a body one or two particles thick, too few neighbours), c_ab = L_a g_ab.
+// The functor adds A_a p_b to pair_gradient, which holds L_a g_ab on entry. Where G_a is singular (a
+// body one or two particles thick, too few neighbours) it leaves L_a g_ab.
 template <int D>
-struct QuadraticGradient {
+struct QuadraticCorrection {
   OperatorView<D> v;
-  Vec<D>* pair_gradient;  // one per CSR pair
+  Vec<D>* pair_gradient;  // one per CSR pair: L_a g_ab on entry, c_ab on exit
   static constexpr int kQuadratic = D * (D + 1) / 2, kMonomials = D + kQuadratic;
-  ISPH_HD void monomials(const Vec<D>& r_ab, Real (&p)[kMonomials]) const {
-    const Vec<D> y = (-1.0 / v.kernel.h) * r_ab;
+  ISPH_HD void monomials(Index a, Index b, Real (&p)[kMonomials]) const {
+    const Vec<D> y = (-1.0 / v.kernel.h) * v.r(a, b);
     int m = 0;
     for (int i = 0; i < D; ++i) p[m++] = y[i];
     for (int i = 0; i < D; ++i)
       for (int j = i; j < D; ++j) p[m++] = (i == j ? 0.5 : 1.0) * y[i] * y[j];
   }
   ISPH_HD void operator()(Index a) const {
-    Mat<D> linear = Mat<D>::zero();
-    for (Index k = v.nbr_offset[a]; k < v.nbr_offset[a + 1]; ++k) {
-      const Index b = v.nbr[k];
-      linear = linear + outer((-1.0) * v.r(a, b), v.volume[b] * v.kernel.gradient(v.r(a, b)));
-    }
-    const Mat<D> L = correction_from_moment(linear);
     Real gram[kMonomials][kMonomials] = {}, moment[D][kQuadratic] = {};
     for (Index k = v.nbr_offset[a]; k < v.nbr_offset[a + 1]; ++k) {
-      const Index b = v.nbr[k];
       Real p[kMonomials];
-      monomials(v.r(a, b), p);
-      const Vec<D> Lg = L * (v.volume[b] * v.kernel.gradient(v.r(a, b)));
+      monomials(a, v.nbr[k], p);
       for (int i = 0; i < kMonomials; ++i)
         for (int j = 0; j < kMonomials; ++j) gram[i][j] += p[i] * p[j];
       for (int d = 0; d < D; ++d)
-        for (int q = 0; q < kQuadratic; ++q) moment[d][q] += Lg[d] * p[D + q];
+        for (int q = 0; q < kQuadratic; ++q) moment[d][q] += pair_gradient[k][d] * p[D + q];
     }
     // row d of A_a solves G_a A_d = [0 ; -Q_a row d] (G_a is symmetric)
     Real A[D][kMonomials];
-    bool solved = true;
-    for (int d = 0; d < D && solved; ++d) {
+    for (int d = 0; d < D; ++d) {
       Real sys[kMonomials][kMonomials], rhs[kMonomials] = {};
       for (int i = 0; i < kMonomials; ++i)
         for (int j = 0; j < kMonomials; ++j) sys[i][j] = gram[i][j];
       for (int q = 0; q < kQuadratic; ++q) rhs[D + q] = -moment[d][q];
-      solved = detail::solve_small<kMonomials>(sys, rhs, A[d], 1e-10);
+      if (!detail::solve_small<kMonomials>(sys, rhs, A[d], 1e-10)) return;
     }
     for (Index k = v.nbr_offset[a]; k < v.nbr_offset[a + 1]; ++k) {
-      const Index b = v.nbr[k];
-      Vec<D> c = L * (v.volume[b] * v.kernel.gradient(v.r(a, b)));
-      if (solved) {
-        Real p[kMonomials];
-        monomials(v.r(a, b), p);
-        for (int d = 0; d < D; ++d)
-          for (int i = 0; i < kMonomials; ++i) c[d] += A[d][i] * p[i];
-      }
-      pair_gradient[k] = c;
+      Real p[kMonomials];
+      monomials(a, v.nbr[k], p);
+      for (int d = 0; d < D; ++d)
+        for (int i = 0; i < kMonomials; ++i) pair_gradient[k][d] += A[d][i] * p[i];
     }
   }
 };

@@ -75,15 +75,13 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
   cgrad_.resize(nbr_.size());
   hg_weight_.resize(nbr_.size());
   const OperatorView<D> reference{n_, X_.data(), volume_.data(), nbr_offset_.data(), nbr_.data(), kernel_};
-  if (s.gradient == StructureGradient::quadratic) {
-    parallel_for(Exec{}, n_, QuadraticGradient<D>{reference, cgrad_.data()});
-  } else {
-    std::vector<Mat<D>> L(n_, Mat<D>::identity());
-    if (s.gradient == StructureGradient::linear) parallel_for(Exec{}, n_, GradientCorrection<D>{reference, L.data()});
-    for (Index a = 0; a < n_; ++a)
-      for (Index k = nbr_offset_[a]; k < nbr_offset_[a + 1]; ++k)
-        cgrad_[k] = L[a] * (volume_[nbr_[k]] * kernel_.gradient(X_[a] - X_[nbr_[k]]));
-  }
+  std::vector<Mat<D>> L(n_, Mat<D>::identity());
+  if (s.gradient != StructureGradient::uncorrected)
+    parallel_for(Exec{}, n_, GradientCorrection<D>{reference, L.data()});
+  for (Index a = 0; a < n_; ++a)
+    for (Index k = nbr_offset_[a]; k < nbr_offset_[a + 1]; ++k)
+      cgrad_[k] = L[a] * (volume_[nbr_[k]] * kernel_.gradient(X_[a] - X_[nbr_[k]]));
+  if (s.gradient == StructureGradient::quadratic) parallel_for(Exec{}, n_, QuadraticCorrection<D>{reference, cgrad_.data()});
   // Per pair (a, b): the hourglass weight and the reverse pair's gradient c_ba; per particle S_a.
   rcgrad_.resize(nbr_.size());
   cgrad_sum_.assign(n_, Vec<D>::zero());

@@ -26,7 +26,7 @@ enum class StructureIntegrator { rk4, verlet };
 StructureIntegrator structure_integrator_from_name(const std::string& name);
 
 // The pair gradients c_ab of the deformation gradient: uncorrected (g_ab), kernel-corrected (L_a g_ab,
-// exact for linear fields; Eq. 35-36) or exact for quadratic fields (QuadraticGradient).
+// exact for linear fields; Eq. 35-36) or exact for quadratic fields (QuadraticCorrection).
 enum class StructureGradient { uncorrected, linear, quadratic };
 StructureGradient structure_gradient_from_name(const std::string& name);
 

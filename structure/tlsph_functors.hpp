@@ -62,7 +62,7 @@ struct TlsphView {
 };
 
 // The internal energy and the force that derives from it. With pair gradients c_ab fixed in the
-// reference configuration (Eq. 36 with L_a g_ab, or QuadraticGradient), F_a = I + sum_b u_ab ⊗ c_ab
+// reference configuration (Eq. 36 with L_a g_ab, or with QuadraticCorrection), F_a = I + sum_b u_ab ⊗ c_ab
 // and the stored energy
 //   U = sum_a V_a psi(F_a) + kappa/2 sum_a V_a sum_b w_ab |eps_ab|^2
 // (X_ab = X_b - X_a, x_ab = x_b - x_a, kappa = alpha E / 2; eps_ab below), the force per unit mass
@@ -150,10 +150,11 @@ struct TlsphAcceleration {
     }
     const ElasticMaterial m = s.materials[s.material[a]];
     const Real kappa = 0.5 * s.hourglass * m.youngs_modulus;
+    const Real inverse_volume = 1.0 / s.volume[a];
     Vec<D> f = s.stress[a] * s.cgrad_sum[a];
     for (Index k = s.nbr_offset[a]; k < s.nbr_offset[a + 1]; ++k) {
       const Index b = s.nbr[k];
-      f += (-s.volume[b] / s.volume[a]) * (s.stress[b] * s.rcgrad[k]);
+      f += (-s.volume[b] * inverse_volume) * (s.stress[b] * s.rcgrad[k]);
       if (s.hourglass > 0) f += (-kappa * s.hg_weight[k]) * hourglass_difference(s, a, b);
     }
     Vec<D> acc = (1.0 / m.density) * f + s.gravity - s.damping * s.v[a];
