@@ -22,9 +22,19 @@ StructureGradient structure_gradient_from_name(const std::string& name) {
   throw std::invalid_argument("unknown structure gradient '" + name + "' (linear | quadratic)");
 }
 
+StructureQuadrature structure_quadrature_from_name(const std::string& name) {
+  if (name == "point") return StructureQuadrature::point;
+  if (name == "cell") return StructureQuadrature::cell;
+  throw std::invalid_argument("unknown structure quadrature '" + name + "' (point | cell)");
+}
+
 template <int D>
 void tlsph_stress(const Exec& exec, const TlsphView<D>& view) {
   parallel_for(exec, view.n, TlsphStress<D>{view});
+  if (view.cell_quadrature) {
+    parallel_for(exec, view.n, TlsphStrainGradient<D>{view});
+    parallel_for(exec, view.n, TlsphGradientStress<D>{view});
+  }
   if (view.hourglass > 0 && view.quadratic) parallel_for(exec, view.n, TlsphHourglass<D>{view});
 }
 
@@ -43,6 +53,7 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
       damping_(s.damping),
       hourglass_(s.hourglass),
       quadratic_(s.gradient == StructureGradient::quadratic),
+      cell_quadrature_(s.quadrature == StructureQuadrature::cell),
       materials_(s.materials.begin(), s.materials.end()),
       loads_(std::move(s.loads)),
       X_(s.X.begin(), s.X.end()),
@@ -96,6 +107,10 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
     }
   F_.assign(n_, Mat<D>::identity());
   stress_.assign(n_, Mat<D>::zero());
+  if (cell_quadrature_) {
+    strain_.assign(n_, Mat<D>::zero());
+    gradient_stress_.assign(static_cast<std::size_t>(D) * n_, Mat<D>::zero());
+  }
   psi_.assign(n_, 0);
   for (auto* v : {&x0_, &v0_, &x_sum_, &v_sum_, &saved_x_, &saved_v_, &saved_acc_}) v->assign(n_, Vec<D>::zero());
   if (exec_.device == Device::cuda) {
@@ -115,7 +130,7 @@ void TlsphSolver<D>::make_state_device_visible() {
   for (auto* v : {&load_acc_, &interaction_, &X_, &x_, &v_, &acc_, &cgrad_, &rcgrad_, &cgrad_sum_, &x0_, &v0_,
                   &x_sum_, &v_sum_, &saved_x_, &saved_v_, &saved_acc_})
     make_device_visible(*v);
-  for (auto* m : {&F_, &stress_}) make_device_visible(*m);
+  for (auto* m : {&F_, &stress_, &strain_, &gradient_stress_}) make_device_visible(*m);
 }
 
 template <int D>
@@ -142,9 +157,12 @@ TlsphView<D> TlsphSolver<D>::view() {
   s.damping = damping_;
   s.hourglass = hourglass_;
   s.quadratic = quadratic_;
+  s.cell_quadrature = cell_quadrature_;
   s.F = F_.data();
   s.stress = stress_.data();
   s.psi = psi_.data();
+  s.strain = strain_.data();
+  s.gradient_stress = gradient_stress_.data();
   s.acc = acc_.data();
   return s;
 }
@@ -159,7 +177,7 @@ Real TlsphSolver<D>::stable_dt(Real courant) const {
 template <int D>
 void TlsphSolver<D>::update_stress() {
   tlsph_stress(waiting_exec(), view());
-  pair_evaluations_ += (hourglass_ > 0 ? 2 : 1) * static_cast<long long>(pairs());
+  pair_evaluations_ += stress_passes() * static_cast<long long>(pairs());
 }
 
 template <int D>
@@ -196,7 +214,7 @@ void TlsphSolver<D>::rk4_launches(const Exec& exec, Real t, Real dt) {
 
 template <int D>
 void TlsphSolver<D>::step_rk4(Real t, Real dt) {
-  pair_evaluations_ += 4 * (hourglass_ > 0 ? 3 : 2) * static_cast<long long>(pairs());
+  pair_evaluations_ += 4 * evaluation_passes() * static_cast<long long>(pairs());
   replayed_graph_ = false;
   // A graph replays fixed arguments: no ramping load, no moving clamp.
   bool replayable = use_graphs_ && motions_.empty();
@@ -222,13 +240,13 @@ void TlsphSolver<D>::step_verlet(Real t, Real dt) {
   const Exec exec = waiting_exec();
   if (!verlet_started_) {
     evaluate(exec, t);
-    pair_evaluations_ += (hourglass_ > 0 ? 3 : 2) * static_cast<long long>(pairs());
+    pair_evaluations_ += evaluation_passes() * static_cast<long long>(pairs());
     verlet_started_ = true;
   }
   parallel_for(exec, n_, VerletKickDrift<D>{acc_.data(), fixed_.data(), x_.data(), v_.data(), 0.5 * dt, dt});
   prescribe_clamps(t + dt);
   evaluate(exec, t + dt);
-  pair_evaluations_ += (hourglass_ > 0 ? 3 : 2) * static_cast<long long>(pairs());
+  pair_evaluations_ += evaluation_passes() * static_cast<long long>(pairs());
   parallel_for(exec, n_, VerletKickDrift<D>{acc_.data(), fixed_.data(), x_.data(), v_.data(), 0.5 * dt, 0.0});
 }
 

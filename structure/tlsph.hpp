@@ -5,7 +5,7 @@
 //
 // On the cuda device the set-up runs on the host; the arrays the loops read then move to managed
 // memory (StateVector), where the device steps them and the host reads them for output. A structure
-// of a few thousand particles is launch-bound (13 launches per RK4 step of a few microseconds each; 17 with quadratic gradients and hourglass control), so
+// of a few thousand particles is launch-bound (13 launches per RK4 step of a few microseconds each; 4 more with quadratic gradients and hourglass control, 8 more with cell quadrature), so
 // the RK4 step is recorded once as a CUDA graph and replayed (LaunchGraph); it is recorded again when
 // the step size changes or the interaction field is first allocated, and not used while a load ramps up or a clamp moves (their values
 // change from step to step), where the launches go one by one.
@@ -30,6 +30,11 @@ StructureIntegrator structure_integrator_from_name(const std::string& name);
 enum class StructureGradient { uncorrected, linear, quadratic };
 StructureGradient structure_gradient_from_name(const std::string& name);
 
+// The quadrature of the strain energy: at the particle (the midpoint rule of SPH), or over its cell
+// with the strain's linear variation across it (TlsphStrainGradient).
+enum class StructureQuadrature { point, cell };
+StructureQuadrature structure_quadrature_from_name(const std::string& name);
+
 // An applied load: a per-particle acceleration at full load, ramped linearly over ramp_time.
 template <int D>
 struct LoadField {
@@ -52,6 +57,7 @@ struct TlsphSetup {
   std::vector<LoadField<D>> loads;
   SmoothingKernel<D> kernel;
   StructureGradient gradient = StructureGradient::linear;
+  StructureQuadrature quadrature = StructureQuadrature::point;
   StructureIntegrator integrator = StructureIntegrator::rk4;
   Vec<D> gravity = Vec<D>::zero();
   Real damping = 0;
@@ -120,6 +126,9 @@ class TlsphSolver {
   void make_state_device_visible();
   // Launches that wait for each other (the host's, or the device's one by one).
   Exec waiting_exec() const { return Exec{exec_.device}; }
+  // Neighbour passes of one evaluation of the stress, and of the stress and the acceleration.
+  int stress_passes() const { return 1 + (hourglass_ > 0) + 2 * cell_quadrature_; }
+  int evaluation_passes() const { return stress_passes() + 1; }
 
   Exec exec_;
   Index n_ = 0;
@@ -128,6 +137,7 @@ class TlsphSolver {
   Vec<D> gravity_;
   Real damping_, hourglass_;
   bool quadratic_;  // quadratic-exact pair gradients (and the symmetric hourglass error)
+  bool cell_quadrature_;  // StructureQuadrature::cell
   StateVector<ElasticMaterial> materials_;
   std::vector<LoadField<D>> loads_;
   StateVector<Vec<D>> load_acc_, interaction_;
@@ -143,6 +153,7 @@ class TlsphSolver {
   StateVector<Real> hg_weight_;
   StateVector<Vec<D>> rcgrad_, cgrad_sum_;
   StateVector<Mat<D>> F_, stress_;
+  StateVector<Mat<D>> strain_, gradient_stress_;  // cell quadrature only
   StateVector<Real> psi_;
   StateVector<Vec<D>> x0_, v0_, x_sum_, v_sum_;  // integrator scratch
   bool verlet_started_ = false;

@@ -128,6 +128,7 @@ struct KernelSpec {
 struct StructureSpec {
   std::string integrator = "rk4";            // rk4 | verlet
   std::string gradient = "linear";           // linear | quadratic: pair gradients exact for linear or quadratic fields
+  std::string quadrature = "point";          // point | cell: the strain energy at the particle or over its cell
   double courant = 0.5;                      // dt = courant * h / c_p (c_p: P-wave speed)
   double damping = 0.0;                      // mass-proportional damping rate [1/s]
   double hourglass = 5.0;                    // hourglass control coefficient alpha (0 = off); docs/VALIDATION.md

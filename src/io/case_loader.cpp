@@ -366,6 +366,7 @@ void read_fields(Table& t, KernelSpec& k) {
 void read_fields(Table& t, StructureSpec& s) {
   read_choice(t, "integrator", s.integrator, {"rk4", "verlet"});
   read_choice(t, "gradient", s.gradient, {"linear", "quadratic"});
+  read_choice(t, "quadrature", s.quadrature, {"point", "cell"});
   read_positive(t, "courant", s.courant);
   read_non_negative(t, "damping", s.damping);
   read_non_negative(t, "hourglass", s.hourglass);
@@ -1136,6 +1137,7 @@ std::string resolved_toml(const CaseSpec& c) {
       << "\n[structure]\n"
       << "integrator = " << quote(c.structure.integrator) << "\n"
       << "gradient = " << quote(c.structure.gradient) << "\n"
+      << "quadrature = " << quote(c.structure.quadrature) << "\n"
       << "courant = " << toml_float(c.structure.courant) << "\n"
       << "damping = " << toml_float(c.structure.damping) << "\n"
       << "hourglass = " << toml_float(c.structure.hourglass) << "\n";

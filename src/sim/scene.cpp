@@ -562,6 +562,7 @@ Scene<D> build_scene(const CaseSpec& spec) {
 
   s.kernel = kernel;
   s.gradient = spec.kernel.correction ? structure_gradient_from_name(spec.structure.gradient) : StructureGradient::uncorrected;
+  s.quadrature = structure_quadrature_from_name(spec.structure.quadrature);
   s.integrator = structure_integrator_from_name(spec.structure.integrator);
   s.gravity = to_vec<D>(spec.gravity);
   s.damping = spec.structure.damping;

@@ -6,6 +6,7 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <utility>
 
 #include "core/device_memory.hpp"
@@ -99,6 +100,32 @@ TEST(Tlsph, QuadraticGradientIsExactForQuadraticFields) {
   EXPECT_GT(worst[0], 1e-3);  // the linear-exact gradient at the edges: O(h k) = 0.012 k
 }
 
+// Pure bending of a block of N particle rows: the one-point (particle) quadrature stores the bending
+// energy of the second moment sum V y^2 = I (1 - 1/N^2); the cell quadrature stores all of it (the
+// strain is linear across each cell). Quadratic gradients make F exact, so only the quadrature differs.
+TEST(Tlsph, CellQuadratureStoresTheWholeBendingEnergy) {
+  const int N = 6;
+  const Real dx = 0.01, kappa = 1e-4, y0 = 0.5 * N * dx;
+  for (StructureQuadrature q : {StructureQuadrature::point, StructureQuadrature::cell}) {
+    auto s = block(16, N, dx, 0, StructureIntegrator::rk4);
+    s.gradient = StructureGradient::quadratic;
+    s.quadrature = q;
+    TlsphSolver<2> solver(s);
+    TlsphView<2> v = solver.view();
+    auto* x = const_cast<Vec<2>*>(v.x);
+    for (Index a = 0; a < v.n; ++a) {  // u = (-kappa x (y - y0), kappa x^2 / 2): curvature kappa, E_yy = 0
+      const Vec<2> X = v.X[a];
+      x[a] = X + Vec<2>{{-kappa * X[0] * (X[1] - y0), 0.5 * kappa * X[0] * X[0]}};
+    }
+    solver.update_stress();
+    const ElasticMaterial& m = s.materials[0];
+    const Real T = N * dx, length = 16 * dx;
+    const Real continuum = 0.5 * (m.lambda + 2 * m.mu) * kappa * kappa * length * T * T * T / 12;
+    const Real expected = q == StructureQuadrature::point ? 1 - 1.0 / (N * N) : 1.0;
+    EXPECT_NEAR(solver.strain_energy() / continuum, expected, 1e-4) << "quadrature " << int(q);
+  }
+}
+
 TEST(Tlsph, WithoutCorrectionFIsNotExactAtEdges) {
   auto s = block(12, 6, 0.01, 0, StructureIntegrator::rk4);
   s.gradient = StructureGradient::uncorrected;
@@ -152,11 +179,16 @@ TEST(Tlsph, StretchedBlockPullsBackAndConservesMomentum) {
 // The hourglass force is the exact negative gradient of the hourglass energy (so that energy is
 // conserved): compare the acceleration with a central finite difference of the total energy.
 TEST(Tlsph, InternalForceIsTheGradientOfTheStoredEnergy) {
-  for (auto [alpha, gradient] : {std::pair{0.0, StructureGradient::linear}, std::pair{10.0, StructureGradient::linear},
-                                 std::pair{0.0, StructureGradient::quadratic}, std::pair{10.0, StructureGradient::quadratic}}) {
+  using Q = StructureQuadrature;
+  using G = StructureGradient;
+  for (auto [alpha, gradient, quadrature] :
+       {std::tuple{0.0, G::linear, Q::point}, std::tuple{10.0, G::linear, Q::point}, std::tuple{0.0, G::quadratic, Q::point},
+        std::tuple{10.0, G::quadratic, Q::point}, std::tuple{0.0, G::linear, Q::cell}, std::tuple{5.0, G::linear, Q::cell},
+        std::tuple{5.0, G::quadratic, Q::cell}}) {
     auto s = block(8, 5, 0.01, 0, StructureIntegrator::rk4);
     s.hourglass = alpha;
     s.gradient = gradient;
+    s.quadrature = quadrature;
     TlsphSolver<2> solver(s);
     TlsphView<2> v = solver.view();
     auto* x = const_cast<Vec<2>*>(v.x);
@@ -180,7 +212,8 @@ TEST(Tlsph, InternalForceIsTheGradientOfTheStoredEnergy) {
         const Real down = energy();
         x[a][d] = keep;
         const Real force = -(up - down) / (2 * e);
-        EXPECT_NEAR(acc[a][d] * mass, force, 1e-5 * std::abs(force) + 1e-3) << "alpha " << alpha << " gradient " << int(gradient) << " particle " << a;
+        EXPECT_NEAR(acc[a][d] * mass, force, 1e-5 * std::abs(force) + 1e-3) << "alpha " << alpha << " gradient " << int(gradient) << " quadrature " << int(quadrature)
+                                                                      << " particle " << a;
       }
   }
 }
