@@ -132,6 +132,22 @@ def load_probe(run):
     return load(run, "probes.csv") if os.path.exists(os.path.join(run, "summary.json")) else None
 
 
+def plate_metrics(run):
+    """Period, amplitude, RMSE against the thin-plate solution and energy drift of a plate run, or None."""
+    d, e = load_probe(run), load(run, "energy.csv")
+    if d is None:
+        return None
+    t, y = d["time"], d["tipuy"]
+    down = upward_crossings(t, -y)  # downward crossings of y
+    period = float(np.mean(np.diff(down))) if len(down) > 1 else float("nan")
+    amp = float(np.max(y))
+    rmse = float(np.sqrt(np.mean((y - PLATE_AMPLITUDE * np.sin(PLATE_OMEGA * t)) ** 2)))
+    drift = float((e["total"][-1] - e["total"][0]) / e["total"][0])
+    return {"period": period, "period_error_pct": pct(period, PLATE_PERIOD), "amplitude": amp,
+            "amplitude_error_pct": pct(amp, PLATE_AMPLITUDE), "rmse": rmse, "nrmse": rmse / (2 * PLATE_AMPLITUDE),
+            "energy_drift": drift, "wall_s": summary(run)["wall_time_s"], "t": t, "y": y}
+
+
 def plate(runs, metrics):
     print("\n### Oscillating plate\n")
     print("| T/dx | period [s] | t·c0/L | period error | seed | A/L | amplitude error | seed | RMSE [m] | NRMSE | energy drift | simulated | wall time [s] |")
@@ -139,24 +155,15 @@ def plate(runs, metrics):
     c0_over_L = math.sqrt(3.25e6 / 1000.0) / 0.2
     fig, ax = plt.subplots(figsize=(7, 4))
     for n in (10, 20, 40):
-        run = os.path.join(runs, f"op_N{n}")
-        d, e = load_probe(run), load(run, "energy.csv")
-        if d is None:
+        m = plate_metrics(os.path.join(runs, f"op_N{n}"))
+        if m is None:
             continue
-        t, y = d["time"], d["tipuy"]
-        down = upward_crossings(t, -y)  # downward crossings of y
-        period = float(np.mean(np.diff(down))) if len(down) > 1 else float("nan")
-        amp = float(np.max(y))
-        ref = PLATE_AMPLITUDE * np.sin(PLATE_OMEGA * t)
-        rmse = float(np.sqrt(np.mean((y - ref) ** 2)))
-        nrmse = rmse / (2 * PLATE_AMPLITUDE)
-        drift = float((e["total"][-1] - e["total"][0]) / e["total"][0])
-        ep, ea = pct(period, PLATE_PERIOD), pct(amp, PLATE_AMPLITUDE)
+        t, y = m.pop("t"), m.pop("y")
         sp, sa = SEED_PLATE[n]
-        wall = summary(run)["wall_time_s"]
-        print(f"| {n} | {period:.4f} | {period*c0_over_L:.2f} | {ep:+.2f} % | {sp} % | {amp/0.2:.4f} | {ea:+.2f} % | {sa} % | {rmse:.5f} | {nrmse:.4f} | {drift:+.1e} | {t[-1]:.2f} s | {wall:.0f} |")
-        metrics[f"plate_N{n}"] = {"period": period, "period_error_pct": ep, "amplitude": amp, "amplitude_error_pct": ea,
-                                  "rmse": rmse, "nrmse": nrmse, "energy_drift": drift, "wall_s": wall}
+        print(f"| {n} | {m['period']:.4f} | {m['period']*c0_over_L:.2f} | {m['period_error_pct']:+.2f} % | {sp} % | "
+              f"{m['amplitude']/0.2:.4f} | {m['amplitude_error_pct']:+.2f} % | {sa} % | {m['rmse']:.5f} | {m['nrmse']:.4f} | "
+              f"{m['energy_drift']:+.1e} | {t[-1]:.2f} s | {m['wall_s']:.0f} |")
+        metrics[f"plate_N{n}"] = m
         ax.plot(t, y, lw=1, label=f"TLSPH T/dx = {n}")
     tt = np.linspace(0, 0.7, 800)
     ax.plot(tt, PLATE_AMPLITUDE * np.sin(PLATE_OMEGA * tt), "k--", lw=1, label="analytical (thin plate)")
@@ -226,15 +233,55 @@ def hourglass(runs, metrics):
             run = os.path.join(runs, f"hg{a}_cantilever_linear_N{n}")
             d = load_probe(run)
             cells += ["-", "-"] if d is None else [f"{pct(-final_value(d, 'tipuy'), LINEAR_V):+.2f} %", f"{odd_even_indicator(run):.3f}"]
-        run = os.path.join(runs, f"hg{a}_op_N10")
-        d, e = load_probe(run), load(run, "energy.csv")
-        if d is None:
-            cells += ["-", "-", "-"]
-        else:
-            down = upward_crossings(d["time"], -d["tipuy"])
-            cells += [f"{pct(np.mean(np.diff(down)), PLATE_PERIOD):+.2f} %", f"{pct(np.max(d['tipuy']), PLATE_AMPLITUDE):+.2f} %",
-                      f"{(e['total'][-1] - e['total'][0]) / e['total'][0]:+.1e}"]
+        m = plate_metrics(os.path.join(runs, f"hg{a}_op_N10"))
+        cells += ["-", "-", "-"] if m is None else [f"{m['period_error_pct']:+.2f} %", f"{m['amplitude_error_pct']:+.2f} %",
+                                                    f"{m['energy_drift']:+.1e}"]
         print(f"| {a} | " + " | ".join(cells) + " |")
+
+
+def quadrature(runs, metrics):
+    """Point (one-point rule) against cell quadrature of the strain energy (VALIDATION section 22)."""
+    print("\n### Strain-energy quadrature: point against cell\n")
+    print("| case | point | cell | cell, wall time [s] |")
+    print("|---|---|---|---|")
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for load, prefix, ref in (("elastica", "cantilever_N", ELASTICA_V), ("linear", "cantilever_linear_N", LINEAR_V)):
+        for q, style in (("point", "o--"), ("cell", "s-")):
+            points = []
+            for n in (5, 10, 17):
+                run = os.path.join(runs, ("cell_" if q == "cell" else "") + f"{prefix}{n}")
+                d = load_probe(run)
+                if d is not None:
+                    points.append((n, pct(-final_value(d, "tipuy"), ref), summary(run)["wall_time_s"]))
+                    metrics[f"{q}_{prefix}{n}"] = {"error_v_pct": points[-1][1], "wall_s": points[-1][2]}
+            if points:
+                n, err, _ = zip(*points)
+                ax.plot(n, err, style, label=f"{load} load, {q}")
+        for n in (5, 10, 17):
+            p, c = metrics.get(f"point_{prefix}{n}"), metrics.get(f"cell_{prefix}{n}")
+            if p and c:
+                print(f"| cantilever, {load} load, T/dx = {n}: tip δ_v error | {p['error_v_pct']:+.2f} % | "
+                      f"{c['error_v_pct']:+.2f} % | {c['wall_s']:.0f} |")
+    for a in (0, 10):
+        d = load_probe(os.path.join(runs, f"cell_hg{a}_cantilever_linear_N10"))
+        p = load_probe(os.path.join(runs, f"hg{a}_cantilever_linear_N10"))
+        if d is not None and p is not None:
+            print(f"| cantilever, linear load, T/dx = 10, α = {a} | {pct(-final_value(p, 'tipuy'), LINEAR_V):+.2f} % | "
+                  f"{pct(-final_value(d, 'tipuy'), LINEAR_V):+.2f} % | - |")
+    p, c = plate_metrics(os.path.join(runs, "op_N10")), plate_metrics(os.path.join(runs, "cell_op_N10"))
+    if p and c:
+        for key, label, fmt in (("period_error_pct", "period error", "{:+.2f} %"), ("amplitude_error_pct", "amplitude error", "{:+.2f} %"),
+                                ("rmse", "RMSE [m]", "{:.5f}"), ("energy_drift", "energy drift", "{:+.1e}")):
+            wall = f"{c['wall_s']:.0f}" if key == "period_error_pct" else "-"
+            print(f"| oscillating plate, T/dx = 10: {label} | {fmt.format(p[key])} | {fmt.format(c[key])} | {wall} |")
+    ax.axhline(0.78, color="0.5", ls=":", lw=1, label="linear load: Timoshenko (shear)")
+    ax.axhspan(-1.5, 1.5, color="0.92", label="±1.5 %")
+    ax.axhline(0, color="k", lw=0.8)
+    ax.set_xlabel("particles through the thickness")
+    ax.set_ylabel("tip δ_v error against the reference [%]")
+    ax.set_title("Cantilever: point against cell quadrature (α = 5)")
+    ax.legend(fontsize=7)
+    save(fig, "cantilever_quadrature.png")
 
 
 def save(fig, name):
@@ -252,6 +299,7 @@ def main(argv):
     plate(runs, metrics)
     csm3(runs, metrics)
     hourglass(runs, metrics)
+    quadrature(runs, metrics)
     with open(os.path.join(runs, "structure_metrics.json"), "w") as f:
         json.dump(metrics, f, indent=1)
 

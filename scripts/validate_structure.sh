@@ -44,5 +44,16 @@ if [ "${1:-all}" != "report" ]; then
     run "hg${a}_cantilever_linear_N10" cases/cantilever.toml --set dx=0.001 --set "loads.0.force=[0,-1.75e4]" --set structure.hourglass=$a
     run "hg${a}_op_N10" cases/oscillating_plate.toml --set dx=0.002 --set structure.hourglass=$a --set output.snapshots=false
   done
+  # 5. strain-energy quadrature over each particle's cell (section 22), against the runs above
+  for n in 5 10 17; do
+    dx=$(python3 -c "print(0.01/$n)")
+    run "cell_cantilever_N$n" cases/cantilever.toml --set dx=$dx --set structure.quadrature=cell
+    run "cell_cantilever_linear_N$n" cases/cantilever.toml --set dx=$dx --set "loads.0.force=[0,-1.75e4]" --set structure.quadrature=cell
+  done
+  for a in 0 10; do
+    run "cell_hg${a}_cantilever_linear_N10" cases/cantilever.toml --set dx=0.001 --set "loads.0.force=[0,-1.75e4]" \
+      --set structure.hourglass=$a --set structure.quadrature=cell
+  done
+  run cell_op_N10 cases/oscillating_plate.toml --set dx=0.002 --set structure.courant=1.0 --set structure.quadrature=cell
 fi
 /usr/bin/python3 scripts/structure_report.py "$OUT"
