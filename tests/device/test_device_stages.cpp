@@ -21,7 +21,7 @@ using namespace isph;
 namespace {
 
 // A block clamped at its left end, with random velocities; fresh inputs for every seed.
-TlsphSetup<2> random_setup(unsigned seed, int columns = 40) {
+TlsphSetup<2> random_setup(unsigned seed, int columns = 40, StructureQuadrature quadrature = StructureQuadrature::point) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<Real> u(-1.0, 1.0);
   TlsphSetup<2> s;
@@ -39,14 +39,15 @@ TlsphSetup<2> random_setup(unsigned seed, int columns = 40) {
   s.kernel = SmoothingKernel<2>::make(KernelType::cubic_spline, 1.2 * dx);
   s.hourglass = 0.5;
   s.damping = 3.0;
+  s.quadrature = quadrature;
   return s;
 }
 
 // The same block, randomly deformed.
-TlsphSolver<2> random_block(unsigned seed, int columns = 40) {
+TlsphSolver<2> random_block(unsigned seed, int columns = 40, StructureQuadrature quadrature = StructureQuadrature::point) {
   std::mt19937 rng(seed + 1000);
   std::uniform_real_distribution<Real> u(-1.0, 1.0);
-  const TlsphSetup<2> s = random_setup(seed, columns);
+  const TlsphSetup<2> s = random_setup(seed, columns, quadrature);
   const Real dx = 0.01;
   TlsphSolver<2> solver(s);
   TlsphView<2> v = solver.view();
@@ -76,8 +77,9 @@ void poison(std::vector<T>& v) {
 
 TEST(DeviceStages, TlsphStressAndAccelerationCudaMatchesCpu) {
   ISPH_SKIP_WITHOUT_GPU();
-  for (unsigned seed : {1u, 2u, 3u}) {
-    TlsphSolver<2> solver = random_block(seed);
+  for (auto [seed, quadrature] : {std::pair{1u, StructureQuadrature::point}, std::pair{2u, StructureQuadrature::point},
+                                  std::pair{3u, StructureQuadrature::cell}, std::pair{4u, StructureQuadrature::cell}}) {
+    TlsphSolver<2> solver = random_block(seed, 40, quadrature);
     TlsphView<2> h = solver.view();
     const Index n = h.n, pairs = solver.pairs();
     auto vec = [](const auto* p, std::size_t k) { return std::vector<std::remove_cv_t<std::remove_pointer_t<decltype(p)>>>(p, p + k); };
@@ -92,7 +94,10 @@ TEST(DeviceStages, TlsphStressAndAccelerationCudaMatchesCpu) {
     std::vector<Real> poisoned_r(n);
     std::vector<Vec<2>> poisoned_v(n);
     poison(poisoned_m), poison(poisoned_r), poison(poisoned_v);
-    DeviceArray<Mat<2>> F(poisoned_m), stress(poisoned_m);
+    DeviceArray<Mat<2>> F(poisoned_m), stress(poisoned_m), strain(poisoned_m);
+    std::vector<Mat<2>> poisoned_gradient_stress(2 * n);
+    poison(poisoned_gradient_stress);
+    DeviceArray<Mat<2>> gradient_stress(poisoned_gradient_stress);
     DeviceArray<Real> psi(poisoned_r);
     DeviceArray<Vec<2>> acc(poisoned_v);
 
@@ -102,6 +107,7 @@ TEST(DeviceStages, TlsphStressAndAccelerationCudaMatchesCpu) {
     d.nbr_offset = off.data(), d.nbr = nbr.data(), d.material = mat.data(), d.materials = mats.data();
     d.fixed = fixed.data(), d.load_acc = load.data(), d.loads = 0;
     d.F = F.data(), d.stress = stress.data(), d.psi = psi.data(), d.acc = acc.data();
+    d.strain = strain.data(), d.gradient_stress = gradient_stress.data();
 
     tlsph_stress(Exec{Device::cpu}, h);
     tlsph_acceleration(Exec{Device::cpu}, h);
