@@ -15,8 +15,6 @@ struct ElasticMaterial {
   Real youngs_modulus;
 };
 
-// St. Venant-Kirchhoff: Green-Lagrange strain E = (F^T F - I)/2, second Piola-Kirchhoff stress
-// S = lambda tr(E) I + 2 mu E, strain energy density psi = lambda/2 tr(E)^2 + mu E:E.
 // The linear elastic law C:E = lambda tr(E) I + 2 mu E (also applied to strain gradients below).
 template <int D>
 ISPH_HD inline Mat<D> elastic_stress(const Mat<D>& E, const ElasticMaterial& m) {
@@ -31,6 +29,8 @@ ISPH_HD inline Mat<D> green_strain(const Mat<D>& F) {
   return 0.5 * (transpose(F) * F - Mat<D>::identity());
 }
 
+// St. Venant-Kirchhoff: Green-Lagrange strain E = (F^T F - I)/2, second Piola-Kirchhoff stress
+// S = C:E, strain energy density psi = lambda/2 tr(E)^2 + mu E:E.
 template <int D>
 ISPH_HD inline Mat<D> svk_stress(const Mat<D>& F, const ElasticMaterial& m, Real* psi = nullptr) {
   const Mat<D> E = green_strain(F);
