@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <limits>
 #include <memory>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -61,8 +62,8 @@ class CudaOps {
   Vector vector(int n) const { return Vector(static_cast<std::size_t>(n)); }
   static double* data(Vector& v) { return v.data(); }
   static const double* data(const Vector& v) { return v.data(); }
-  void upload(const std::vector<double>& h, Vector& v) const { v.upload(h); }
-  void download(const Vector& v, std::vector<double>& h) const { v.download(h); }
+  void upload(std::span<const double> h, Vector& v) const { v.upload(h); }
+  void download(const Vector& v, std::span<double> h) const { v.download(h); }
 
   // The device arrays are reused from matrix to matrix (reallocated only when a size changes); the
   // descriptors, host-side objects, are made anew.
@@ -169,7 +170,7 @@ SpmvMeasurement measure_cuda_spmv(const CsrMatrix& A, const std::vector<double>&
   m.seconds_per_product = 1e-3 * timed_ms([&] {
     for (int k = 0; k < repeats; ++k) ops.spmv(dx, dy);
   }) / repeats;
-  ops.download(dy, m.y);
+  dy.download(m.y);  // resizes m.y
   m.bytes_per_product = 12.0 * A.val.size() + 4.0 * (A.rows + 1) + 16.0 * A.rows;
 
   constexpr std::size_t copy_bytes = std::size_t{512} << 20;

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <span>
 #include <string>
 
 #include "poisson/linear_solver.hpp"
@@ -72,7 +73,7 @@ class EigenSolver final : public KrylovSolverFrame {
   explicit EigenSolver(const SolverSettings& s) : KrylovSolverFrame(s) {}
 
  protected:
-  std::string setup(const CsrMatrix& A, const std::vector<double>& b) override {
+  std::string setup(const CsrMatrix& A, std::span<const double> b) override {
     // Copy the (sorted, duplicate-free) CSR arrays straight into a compressed row-major matrix.
     A_.resize(A.rows, A.rows);
     A_.resizeNonZeros(static_cast<Eigen::Index>(A.col.size()));
@@ -85,11 +86,11 @@ class EigenSolver final : public KrylovSolverFrame {
     return engine_->compute(A_);
   }
 
-  void update_rhs(const std::vector<double>& b) override {
+  void update_rhs(std::span<const double> b) override {
     b_ = Eigen::Map<const Vec>(b.data(), static_cast<Eigen::Index>(b.size()));
   }
 
-  Pass iterate(std::vector<double>& x, double tol, int max_iterations) override {
+  Pass iterate(std::span<double> x, double tol, int max_iterations) override {
     Vec xe = Eigen::Map<const Vec>(x.data(), static_cast<Eigen::Index>(x.size()));
     Eigen::ComputationInfo info = Eigen::Success;
     Pass p;

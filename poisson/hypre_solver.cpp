@@ -26,6 +26,7 @@
 
 #include <mutex>
 #include <numeric>
+#include <span>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -78,7 +79,7 @@ class HypreSolver final : public KrylovSolverFrame {
   ~HypreSolver() override { release(); }
 
  protected:
-  std::string setup(const CsrMatrix& A, const std::vector<double>& b) override {
+  std::string setup(const CsrMatrix& A, std::span<const double> b) override {
     HypreRuntime::ensure();
     int ranks = 1;
     MPI_Comm_size(MPI_COMM_WORLD, &ranks);
@@ -185,7 +186,7 @@ class HypreSolver final : public KrylovSolverFrame {
     return "";
   }
 
-  Pass iterate(std::vector<double>& x, double tol, int max_iterations) override {
+  Pass iterate(std::span<double> x, double tol, int max_iterations) override {
     HYPRE_IJVectorSetValues(ij_x_, n_, rows_.data(), x.data());
     HYPRE_IJVectorAssemble(ij_x_);
     HYPRE_Int iterations = 0, code = 0;
@@ -209,7 +210,7 @@ class HypreSolver final : public KrylovSolverFrame {
     return p;
   }
 
-  void update_rhs(const std::vector<double>& b) override {
+  void update_rhs(std::span<const double> b) override {
     HYPRE_IJVectorSetValues(ij_b_, n_, rows_.data(), b.data());
     HYPRE_IJVectorAssemble(ij_b_);
     HYPRE_IJVectorGetObject(ij_b_, reinterpret_cast<void**>(&b_));

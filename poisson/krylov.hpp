@@ -11,7 +11,8 @@
 //   Exec exec() const;                          // where the functors below run
 //   Vector vector(int n);                       // uninitialised
 //   static double* data(Vector&); static const double* data(const Vector&);
-//   void upload(const std::vector<double>&, Vector&); void download(const Vector&, std::vector<double>&);
+//   void upload(std::span<const double>, Vector&); void download(const Vector&, std::span<double>);
+//                                               // the caller's b and x (host or managed memory), n entries
 //   void set_matrix(const CsrMatrix&);          // keeps a copy of A in the backend (reusing its storage)
 //   CsrView matrix() const;                     // that copy, as pointers in the backend's memory
 //   void spmv(const Vector& x, Vector& y);      // y = A x
@@ -21,6 +22,7 @@
 
 #include <cmath>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -230,7 +232,7 @@ class OwnKrylovSolver final : public KrylovSolverFrame {
   ~OwnKrylovSolver() override { release(); }
 
  protected:
-  std::string setup(const CsrMatrix& A, const std::vector<double>& b) override {
+  std::string setup(const CsrMatrix& A, std::span<const double> b) override {
     using P = typename Bicgstab<Ops>::Preconditioner;
     const P m = settings_.preconditioner == "jacobi"       ? P::jacobi
                 : settings_.preconditioner == "polynomial" ? P::polynomial
@@ -246,12 +248,12 @@ class OwnKrylovSolver final : public KrylovSolverFrame {
     return "";
   }
 
-  void update_rhs(const std::vector<double>& b) override {
+  void update_rhs(std::span<const double> b) override {
     ops_.upload(b, b_);
     b_norm_ = krylov_->norm(b_);
   }
 
-  Pass iterate(std::vector<double>& x, double tol, int max_iterations) override {
+  Pass iterate(std::span<double> x, double tol, int max_iterations) override {
     ops_.upload(x, x_);
     const auto r = krylov_->run(b_, x_, tol * b_norm_, max_iterations);
     ops_.download(x_, x);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <span>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
@@ -35,11 +36,11 @@ void require_one_of(const std::string& option, const std::string& value, const s
                               " (allowed: " + join(allowed) + ")");
 }
 
-bool all_finite(const std::vector<double>& v) {
+bool all_finite(std::span<const double> v) {
   return std::all_of(v.begin(), v.end(), [](double e) { return std::isfinite(e); });
 }
 
-double norm2(const std::vector<double>& v) {
+double norm2(std::span<const double> v) {
   double s = 0;
   for (double e : v) s += e * e;
   return std::sqrt(s);
@@ -141,7 +142,7 @@ std::unique_ptr<LinearSolver> make_linear_solver(const SolverSettings& s) {
   return detail::make_eigen_solver(s);
 }
 
-void check_linear_system(const CsrMatrix& A, const std::vector<double>& b, const std::vector<double>& x) {
+void check_linear_system(const CsrMatrix& A, std::span<const double> b, std::span<const double> x) {
   const auto fail = [](const std::string& why) { throw std::invalid_argument("linear solver: " + why); };
   if (A.rows < 0) fail("matrix has a negative number of rows");
   const auto n = static_cast<std::size_t>(A.rows);
@@ -163,11 +164,11 @@ void check_linear_system(const CsrMatrix& A, const std::vector<double>& b, const
     if (A.col[k] < 0 || A.col[k] >= A.rows)
       fail("column index " + std::to_string(A.col[k]) + " out of range [0, " + std::to_string(A.rows) + ")");
   if (b.size() != n) fail("b has " + std::to_string(b.size()) + " entries, matrix has " + std::to_string(n) + " rows");
-  if (!x.empty() && x.size() != n)
+  if (x.size() != n)
     fail("x has " + std::to_string(x.size()) + " entries, matrix has " + std::to_string(n) + " rows");
 }
 
-double relative_residual(const CsrMatrix& A, const std::vector<double>& b, const std::vector<double>& x) {
+double relative_residual(const CsrMatrix& A, std::span<const double> b, std::span<const double> x) {
   double r2 = 0, b2 = 0;
 #pragma omp parallel for reduction(+ : r2, b2) schedule(static)
   for (int i = 0; i < A.rows; ++i) {
@@ -179,13 +180,22 @@ double relative_residual(const CsrMatrix& A, const std::vector<double>& b, const
   return b2 > 0 ? std::sqrt(r2 / b2) : std::sqrt(r2);
 }
 
+SolveReport LinearSolver::solve(const CsrMatrix& A, const std::vector<double>& b, std::vector<double>& x,
+                                bool same_matrix) {
+  if (x.empty()) {
+    check_linear_system(A, b, b);  // b stands in for x: a malformed system throws with x still empty
+    x.assign(b.size(), 0.0);
+  }
+  return solve(A, std::span<const double>(b), std::span<double>(x), same_matrix);
+}
+
 namespace detail {
 
 std::string KrylovSolverFrame::name() const {
   return settings_.backend + "-" + settings_.method + "-" + settings_.preconditioner;
 }
 
-SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, const std::vector<double>& b, std::vector<double>& x,
+SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, std::span<const double> b, std::span<double> x,
                                      bool same_matrix) {
   const auto start = std::chrono::steady_clock::now();
   check_linear_system(A_in, b, x);
@@ -194,7 +204,6 @@ SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, const std::vector<do
     prepared_ = false;
   }
   const int n = A_in.rows;
-  if (x.empty()) x.assign(n, 0.0);
 
   SolveReport report;
   const auto done = [&](std::string message) {
@@ -255,7 +264,7 @@ SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, const std::vector<do
     prepared_ = true;
   }
 
-  const std::vector<double> x0 = x;
+  const std::vector<double> x0(x.begin(), x.end());
   const double eps = std::numeric_limits<double>::epsilon();
   int remaining = settings_.max_iterations;
   std::string last_note;
@@ -273,7 +282,7 @@ SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, const std::vector<do
     remaining -= std::max(p.iterations, 1);
     if (!p.note.empty()) last_note = p.note;
     if (!all_finite(x)) {
-      x = x0;
+      std::copy(x0.begin(), x0.end(), x.begin());
       report.converged = false;
       report.relative_residual = relative_residual(A, b, x);
       return done(notes + "the solver produced NaN/Inf (breakdown or a singular preconditioner" +

@@ -10,22 +10,27 @@
 //           CUDA backend, and only when a device is visible).
 // Every backend reports the TRUE relative residual ||b - A x|| / ||b||, recomputed from the CSR
 // matrix after the solve, and calls the solve converged only when that residual meets the tolerance.
+// The caller's arrays come as StateVectors and spans, not std::vectors, because the fluid solver may
+// keep them in CUDA managed memory (core/device_memory.hpp).
 #pragma once
 
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
+
+#include "core/device_memory.hpp"
 
 namespace isph {
 
 // Square sparse matrix in compressed sparse row form: the entries of row i are
 // col[row_offset[i] .. row_offset[i+1]) and val[...]. Columns need not be sorted within a row;
-// duplicate (row, col) entries are summed.
+// duplicate (row, col) entries are summed. The arrays are in host or managed memory (StateVector).
 struct CsrMatrix {
   int rows = 0;
-  std::vector<int> row_offset;
-  std::vector<int> col;
-  std::vector<double> val;
+  StateVector<int> row_offset;
+  StateVector<int> col;
+  StateVector<double> val;
 };
 
 struct SolverSettings {
@@ -49,15 +54,18 @@ struct SolveReport {
 class LinearSolver {
  public:
   virtual ~LinearSolver() = default;
-  // Solves A x = b; x holds the initial guess on entry (an empty x means a zero guess). Never throws on
-  // non-convergence, breakdown, NaN or Inf: reports it (converged=false, residual, iterations,
-  // message). Throws std::invalid_argument on a malformed matrix or mismatched sizes.
+  // Solves A x = b; x (A.rows entries: a span cannot grow) holds the initial guess on entry. Never
+  // throws on non-convergence, breakdown, NaN or Inf: reports it (converged=false, residual,
+  // iterations, message). Throws std::invalid_argument on a malformed matrix or mismatched sizes.
   // b = 0 gives x = 0. A non-finite initial guess is replaced by zero. When the solver produces a
   // non-finite x, x is restored to the initial guess and the report says so.
   // same_matrix: A is the matrix of the previous call (only b changed), so the copy of A and the
   // preconditioner built then are used again.
-  virtual SolveReport solve(const CsrMatrix& A, const std::vector<double>& b, std::vector<double>& x,
+  virtual SolveReport solve(const CsrMatrix& A, std::span<const double> b, std::span<double> x,
                             bool same_matrix = false) = 0;
+  // The same for std::vectors, where an empty x means a zero guess (x is then resized to A.rows).
+  SolveReport solve(const CsrMatrix& A, const std::vector<double>& b, std::vector<double>& x,
+                    bool same_matrix = false);
   virtual std::string name() const = 0;  // e.g. "eigen-bicgstab-ilu", "hypre-gmres-boomeramg"
 };
 
@@ -76,11 +84,11 @@ const std::vector<std::string>& solver_preconditioners(const std::string& backen
 bool hypre_available();
 
 // Throws std::invalid_argument unless A is a well-formed square CSR matrix (offsets monotone, columns
-// in range) and b (and x, unless empty) have A.rows entries.
-void check_linear_system(const CsrMatrix& A, const std::vector<double>& b, const std::vector<double>& x);
+// in range) and b and x have A.rows entries.
+void check_linear_system(const CsrMatrix& A, std::span<const double> b, std::span<const double> x);
 
 // ||b - A x|| / ||b||, or ||b - A x|| when b = 0 (sizes are assumed checked).
-double relative_residual(const CsrMatrix& A, const std::vector<double>& b, const std::vector<double>& x);
+double relative_residual(const CsrMatrix& A, std::span<const double> b, std::span<const double> x);
 
 namespace detail {
 
@@ -92,7 +100,8 @@ namespace detail {
 class KrylovSolverFrame : public LinearSolver {
  public:
   explicit KrylovSolverFrame(const SolverSettings& settings) : settings_(settings) {}
-  SolveReport solve(const CsrMatrix& A, const std::vector<double>& b, std::vector<double>& x,
+  using LinearSolver::solve;  // the std::vector overload
+  SolveReport solve(const CsrMatrix& A, std::span<const double> b, std::span<double> x,
                     bool same_matrix = false) final;
   std::string name() const final;
 
@@ -104,13 +113,14 @@ class KrylovSolverFrame : public LinearSolver {
   };
   // Copies A (columns sorted within each row, no duplicates, all values finite) and b into the
   // backend and builds the preconditioner. Returns an empty string, or why the setup failed.
-  virtual std::string setup(const CsrMatrix& A, const std::vector<double>& b) = 0;
+  // b and x below are the caller's (host or managed memory), A.rows entries each.
+  virtual std::string setup(const CsrMatrix& A, std::span<const double> b) = 0;
   // Replaces b, keeping A and the preconditioner of the last setup.
-  virtual void update_rhs(const std::vector<double>& b) = 0;
+  virtual void update_rhs(std::span<const double> b) = 0;
   // Runs the Krylov method from x (in/out) until its own residual estimate falls below tol (relative
   // to ||b||, or to the initial residual of this pass when tolerance_relative_to_initial_residual())
   // or after max_iterations iterations.
-  virtual Pass iterate(std::vector<double>& x, double tol, int max_iterations) = 0;
+  virtual Pass iterate(std::span<double> x, double tol, int max_iterations) = 0;
   // Frees what setup() made; called before the next setup and when a setup failed or threw (the
   // setup is kept between solves for same_matrix calls).
   virtual void release() = 0;

@@ -2,6 +2,7 @@
 // launcher with OpenMP. It is the host reference of the cuda backend, which runs the same code.
 #include <algorithm>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "poisson/krylov.hpp"
@@ -16,8 +17,8 @@ class HostOps {
   Vector vector(int n) const { return Vector(static_cast<std::size_t>(n)); }
   static double* data(Vector& v) { return v.data(); }
   static const double* data(const Vector& v) { return v.data(); }
-  void upload(const std::vector<double>& h, Vector& v) const { v = h; }
-  void download(const Vector& v, std::vector<double>& h) const { h = v; }
+  void upload(std::span<const double> h, Vector& v) const { v.assign(h.begin(), h.end()); }
+  void download(const Vector& v, std::span<double> h) const { std::copy(v.begin(), v.end(), h.begin()); }
   void set_matrix(const CsrMatrix& A) { A_ = A; }
   CsrView matrix() const { return {A_.rows, A_.row_offset.data(), A_.col.data(), A_.val.data()}; }
   void spmv(const Vector& x, Vector& y) const {

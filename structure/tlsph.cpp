@@ -291,7 +291,7 @@ Real TlsphSolver<D>::potential_energy() const {
 }
 
 template <int D>
-void TlsphSolver<D>::set_interaction(const std::vector<Vec<D>>& acc) {
+void TlsphSolver<D>::set_interaction(std::span<const Vec<D>> acc) {
   if (static_cast<Index>(acc.size()) != n_) throw std::invalid_argument("set_interaction: one value per particle");
   interaction_.resize(acc.size());  // allocated once: a recorded graph keeps addressing it
   std::copy(acc.begin(), acc.end(), interaction_.begin());

@@ -10,6 +10,7 @@
 // the step size changes or the interaction field is first allocated, and not used while a load ramps up or a clamp moves (their values
 // change from step to step), where the launches go one by one.
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -85,7 +86,7 @@ class TlsphSolver {
   void update_stress();
   // The fluid's interaction acceleration alpha(f->s) (Eq. 48), one per particle, added to the
   // acceleration until it is set again.
-  void set_interaction(const std::vector<Vec<D>>& acc);
+  void set_interaction(std::span<const Vec<D>> acc);
   // Whether the last RK4 step on the device replayed a recorded graph (for tests and benchmarks).
   bool replayed_graph() const { return replayed_graph_; }
   // Graphs on (the default) or off: off, the device's launches go one by one (for benchmarks).

@@ -57,7 +57,7 @@ int main(int argc, char** argv) {
   run->add_option("case", case_path, "case file (TOML)")->required();
   run->add_option("--out", out_dir, "output directory (default out/<case name>)");
   run->add_option("--set", overrides, "override a case key: --set dotted.key=value (repeatable)");
-  run->add_option("--device", device, "cpu | cuda (cuda: structure-only cases in this version)")
+  run->add_option("--device", device, "cpu | cuda (cuda: the particle loops run on the GPU, the state in managed memory)")
       ->check(CLI::IsMember({"cpu", "cuda"}));
   run->add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
   run->add_flag("--quiet", quiet, "no progress line");

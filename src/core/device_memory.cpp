@@ -30,10 +30,10 @@ void device_free(void* p) {
   if (p) cudaFree(p);
 }
 void copy_host_to_device(void* dst, const void* src, std::size_t bytes) {
-  check(cudaMemcpy(dst, src, bytes, cudaMemcpyHostToDevice), "cudaMemcpy to device");
+  check(cudaMemcpy(dst, src, bytes, cudaMemcpyDefault), "cudaMemcpy to device");
 }
 void copy_device_to_host(void* dst, const void* src, std::size_t bytes) {
-  check(cudaMemcpy(dst, src, bytes, cudaMemcpyDeviceToHost), "cudaMemcpy to host");
+  check(cudaMemcpy(dst, src, bytes, cudaMemcpyDefault), "cudaMemcpy to host");
 }
 void* managed_allocate(std::size_t bytes) {
   void* p = nullptr;

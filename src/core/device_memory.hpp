@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <span>
 #include <stdexcept>
 #include <type_traits>
 #include <utility>
@@ -16,6 +17,7 @@ namespace isph {
 int cuda_devices();  // number of usable CUDA devices (0 when none, or not built)
 void* device_allocate(std::size_t bytes);
 void device_free(void* p);
+// The host side may be ordinary or managed memory (the copies let the runtime tell which).
 void copy_host_to_device(void* dst, const void* src, std::size_t bytes);
 void copy_device_to_host(void* dst, const void* src, std::size_t bytes);
 // CUDA managed memory: one address that the host and the device both read and write (the driver moves
@@ -84,7 +86,7 @@ class LaunchGraph {
   void* graph_ = nullptr;   // cudaGraphExec_t
 };
 
-// An array in device memory, filled from and read back into host vectors.
+// An array in device memory, filled from and read back into host arrays (ordinary or managed memory).
 template <class T>
 class DeviceArray {
  public:
@@ -103,7 +105,7 @@ class DeviceArray {
   const T* data() const { return p_; }
   std::size_t size() const { return n_; }
   // Makes the array host's copy, reallocating only when the size changes.
-  void assign(const std::vector<T>& host) {
+  void assign(std::span<const T> host) {
     if (host.size() != n_) *this = DeviceArray(host.size());
     upload(host);
   }
@@ -112,13 +114,19 @@ class DeviceArray {
     if (n_ < n) *this = DeviceArray(n);
   }
   // Copies host into the array; the sizes must agree.
-  void upload(const std::vector<T>& host) {
+  void upload(std::span<const T> host) {
     if (host.size() != n_) throw std::invalid_argument("DeviceArray::upload: size mismatch");
     copy_host_to_device(p_, host.data(), n_ * sizeof(T));
   }
+  // Copies the array into host; the sizes must agree.
+  void download(std::span<T> host) const {
+    if (host.size() != n_) throw std::invalid_argument("DeviceArray::download: size mismatch");
+    copy_device_to_host(host.data(), p_, n_ * sizeof(T));
+  }
+  // Resizes host to the array's size first.
   void download(std::vector<T>& host) const {
     host.resize(n_);
-    copy_device_to_host(host.data(), p_, n_ * sizeof(T));
+    download(std::span<T>(host));
   }
   std::vector<T> to_host() const {
     std::vector<T> h;

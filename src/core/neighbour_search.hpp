@@ -6,6 +6,7 @@
 // index), built by two gather loops (count, fill) through the common launcher, so it runs wherever
 // the other particle loops run.
 #include <algorithm>
+#include <span>
 #include <stdexcept>
 #include <vector>
 
@@ -142,7 +143,7 @@ class CellList {
  public:
   // Buckets x into cells of edge `radius` (at least) over the particles' bounding box; on a periodic
   // axis, over the period (which must hold at least three cells, and every x must lie inside it).
-  void build(const std::vector<Vec<D>>& x, Real radius, const Periodicity<D>& period = {}) {
+  void build(std::span<const Vec<D>> x, Real radius, const Periodicity<D>& period = {}) {
     x_ = x.data();
     radius_ = radius;
     period_ = period;

@@ -9,7 +9,7 @@ namespace isph {
 namespace {
 
 template <int D>
-Eigen::VectorXd flatten(const std::vector<Vec<D>>& v) {
+Eigen::VectorXd flatten(const StateVector<Vec<D>>& v) {
   Eigen::VectorXd out(static_cast<Eigen::Index>(D * v.size()));
   for (std::size_t a = 0; a < v.size(); ++a)
     for (int d = 0; d < D; ++d) out[static_cast<Eigen::Index>(D * a + d)] = v[a][d];
@@ -17,7 +17,7 @@ Eigen::VectorXd flatten(const std::vector<Vec<D>>& v) {
 }
 
 template <int D>
-void unflatten(const Eigen::VectorXd& x, std::vector<Vec<D>>& v) {
+void unflatten(const Eigen::VectorXd& x, StateVector<Vec<D>>& v) {
   for (std::size_t a = 0; a < v.size(); ++a)
     for (int d = 0; d < D; ++d) v[a][d] = x[static_cast<Eigen::Index>(D * a + d)];
 }
@@ -60,17 +60,19 @@ Eigen::VectorXd InterfaceQuasiNewton::next(const Eigen::VectorXd& x, const Eigen
 
 template <int D>
 StructureCoupling<D>::StructureCoupling(TlsphSetup<D> setup, const CouplingSpec& coupling, Real courant,
-                                        Vec<D> gravity)
-    : solver_(std::move(setup)),
+                                        Vec<D> gravity, Device device)
+    : solver_(std::move(setup), Exec{device}),
       spec_(coupling),
       stable_dt_(solver_.stable_dt(courant)),
       g_norm_(std::sqrt(norm2(gravity))),
       interpolate_(coupling.substep_interaction == "interpolated"),
       quasi_newton_(coupling.reuse_steps) {
   const Index n = solver_.size();
-  for (auto* v : {&force_density_, &interaction_, &a_guess_, &a_new_, &v_new_})
-    v->assign(n, Vec<D>::zero());
-  v_mean_.assign(solver_.velocity().begin(), solver_.velocity().end());
+  const StateAllocator<Vec<D>> memory(device == Device::cuda);
+  for (auto* v : {&force_density_, &interaction_, &a_guess_, &a_new_, &x_old_, &v_new_, &last_interaction_,
+                  &substep_interaction_})
+    *v = StateVector<Vec<D>>(n, Vec<D>::zero(), memory);
+  v_mean_ = StateVector<Vec<D>>(solver_.velocity().begin(), solver_.velocity().end(), memory);
   density_.resize(n);
   for (Index a = 0; a < n; ++a) density_[a] = solver_.density(a);
 }
@@ -85,7 +87,6 @@ int StructureCoupling<D>::substep(Real t, Real dt, Real& work) {
   for (int k = 0; k < count; ++k) {
     if (ramp) {
       const Real s = (k + 0.5) / count;
-      substep_interaction_.resize(interaction_.size());
       for (std::size_t a = 0; a < interaction_.size(); ++a)
         substep_interaction_[a] = last_interaction_[a] + s * (interaction_[a] - last_interaction_[a]);
       solver_.set_interaction(substep_interaction_);

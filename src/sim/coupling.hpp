@@ -82,7 +82,9 @@ class InterfaceQuasiNewton {
 template <int D>
 class StructureCoupling {
  public:
-  StructureCoupling(TlsphSetup<D> setup, const CouplingSpec& coupling, Real courant, Vec<D> gravity);
+  // On the cuda device the structure steps there, and the arrays the fluid's loops read are in managed memory.
+  StructureCoupling(TlsphSetup<D> setup, const CouplingSpec& coupling, Real courant, Vec<D> gravity,
+                    Device device = Device::cpu);
 
   // One coupled step from t to t + dt: the fluid step with the interface iterations inside it.
   FluidStepReport step(Real t, Real dt, IsphSolver<D>& fluid, PhaseTimer& timer);
@@ -111,8 +113,8 @@ class StructureCoupling {
   TlsphSolver<D> solver_;
   CouplingSpec spec_;
   Real stable_dt_, g_norm_;
-  std::vector<Vec<D>> force_density_, interaction_, a_guess_, a_new_, x_old_, v_new_, v_mean_;
-  std::vector<Vec<D>> last_interaction_, substep_interaction_;  // alpha^n; alpha of one substep (interpolated)
+  StateVector<Vec<D>> force_density_, interaction_, a_guess_, a_new_, x_old_, v_new_, v_mean_;
+  StateVector<Vec<D>> last_interaction_, substep_interaction_;  // alpha^n; alpha of one substep (interpolated)
   bool interpolate_;
   bool has_last_interaction_ = false;
   std::vector<Real> density_;

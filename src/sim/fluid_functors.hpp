@@ -209,6 +209,58 @@ Index lowest_id_particle(const Exec& exec, Index n, Select select, const Index* 
   return key == kNoIdKey ? -1 : static_cast<Index>(key & 0xffffffffLL);
 }
 
+// The first particle (lowest index) that `select` accepts, or -1.
+template <class Select>
+struct IndexIfSelected {
+  Select select;
+  Index none;
+  ISPH_HD Index operator()(Index a) const { return select(a) ? a : none; }
+};
+template <class Select>
+Index first_particle(const Exec& exec, Index n, Select select) {
+  const Index first = parallel_reduce(exec, n, n, IndexIfSelected<Select>{select, n}, MinOf{});
+  return first < n ? first : -1;
+}
+
+// |v| <= the largest double: false for NaN and +-Inf.
+ISPH_HD inline bool finite_value(Real v) { return fabs(v) <= 1.7976931348623157e308; }
+
+// Particles with a non-finite position, velocity or pressure.
+template <int D>
+struct NonFiniteState {
+  const Vec<D>* x;
+  const Vec<D>* u;
+  const Real* p;
+  ISPH_HD bool operator()(Index a) const {
+    return !finite_value(norm2(x[a])) || !finite_value(norm2(u[a])) || !finite_value(p[a]);
+  }
+};
+
+// Fluid particles outside the box [lo, hi].
+template <int D>
+struct FluidOutsideBox {
+  const FluidKind* kind;
+  const Vec<D>* x;
+  Vec<D> lo, hi;
+  ISPH_HD bool operator()(Index a) const {
+    if (kind[a] != FluidKind::fluid) return false;
+    bool outside = false;
+    for (int d = 0; d < D; ++d) outside = outside || x[a][d] < lo[d] || x[a][d] > hi[d];
+    return outside;
+  }
+};
+
+// The pressure force density of structure particle k to its TLSPH index.
+template <int D>
+struct ScatterStructureForce {
+  const Index* structure_index;
+  const Vec<D>* boundary_force;
+  Vec<D>* force_density;
+  ISPH_HD void operator()(Index k) const {
+    if (const Index s = structure_index[k]; s >= 0) force_density[s] = boundary_force[k];
+  }
+};
+
 // Boundary particles that belong to a structure take its state from the TLSPH solver (arrays indexed
 // as there): position, velocity, and the surface normal turned with the deformation,
 // n = F^{-T} N / |F^{-T} N|.

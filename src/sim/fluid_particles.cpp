@@ -14,21 +14,17 @@ namespace {
 // Sorting particles by cell keeps neighbours close in memory; positions drift, so re-sort this often.
 constexpr long long kSortInterval = 20;
 
+// A host vector as the state's array (in managed memory on the cuda device).
+template <class T>
+StateVector<T> state_copy(const std::vector<T>& v, bool device_visible) {
+  return StateVector<T>(v.begin(), v.end(), StateAllocator<T>(device_visible));
+}
+
 }  // namespace
 
 template <int D>
 FluidParticles<D>::FluidParticles(FluidSetup<D>& s)
-    : x_(std::move(s.x)),
-      u_(std::move(s.u)),
-      volume_(std::move(s.volume)),
-      wall_depth_(std::move(s.wall_depth)),
-      kind_(std::move(s.kind)),
-      wall_velocity_(std::move(s.wall_velocity)),
-      wall_normal_(std::move(s.wall_normal)),
-      id_(std::move(s.id)),
-      structure_index_(std::move(s.structure_index)),
-      motion_(std::move(s.motion)),
-      reference_x_(x_),
+    : exec_{s.device},
       motions_(std::move(s.motions)),
       density_(s.density),
       viscosity_(s.viscosity),
@@ -38,71 +34,99 @@ FluidParticles<D>::FluidParticles(FluidSetup<D>& s)
       period_(s.period),
       gravity_(s.gravity),
       settings_(s.settings) {
-  const std::size_t n = x_.size();
-  if (structure_index_.empty()) structure_index_.assign(n, -1);
-  if (motion_.empty()) motion_.assign(n, -1);
-  has_structure_ = std::count(kind_.begin(), kind_.end(), FluidKind::structure) > 0;
-  wall_acceleration_.assign(n, Vec<D>::zero());
+  if (exec_.device == Device::cuda && cuda_devices() == 0)
+    throw std::runtime_error("--device cuda: no CUDA device is visible (or this build has no CUDA backend)");
+  const std::size_t n = s.x.size();
+  if (s.structure_index.empty()) s.structure_index.assign(n, -1);
+  if (s.motion.empty()) s.motion.assign(n, -1);
+  const bool managed = exec_.device == Device::cuda;
+  x_ = state_copy(s.x, managed);
+  u_ = state_copy(s.u, managed);
+  volume_ = state_copy(s.volume, managed);
+  wall_depth_ = state_copy(s.wall_depth, managed);
+  kind_ = state_copy(s.kind, managed);
+  wall_velocity_ = state_copy(s.wall_velocity, managed);
+  wall_normal_ = state_copy(s.wall_normal, managed);
   reference_normal_ = wall_normal_;
-  boundary_force_.assign(n, Vec<D>::zero());
-  p_.assign(n, 0);
-  fluid_count_ = static_cast<Index>(std::count(kind_.begin(), kind_.end(), FluidKind::fluid));
-  wall_count_ = static_cast<Index>(std::count(kind_.begin(), kind_.end(), FluidKind::wall));
+  id_ = state_copy(s.id, managed);
+  structure_index_ = state_copy(s.structure_index, managed);
+  motion_ = state_copy(s.motion, managed);
+  reference_x_ = x_;
+  wall_acceleration_ = state_copy(std::vector<Vec<D>>(n, Vec<D>::zero()), managed);
+  boundary_force_ = wall_acceleration_;
+  p_ = state_copy(std::vector<Real>(n, 0), managed);
+  for (auto* v : {&inside_, &permute_scratch_}) *v = StateVector<unsigned char>(state_allocator<unsigned char>());
+  for (auto* v : {&body_distance_, &body_depth_}) *v = StateVector<Real>(state_allocator<Real>());
+  has_structure_ = std::count(s.kind.begin(), s.kind.end(), FluidKind::structure) > 0;
+  fluid_count_ = static_cast<Index>(std::count(s.kind.begin(), s.kind.end(), FluidKind::fluid));
+  wall_count_ = static_cast<Index>(std::count(s.kind.begin(), s.kind.end(), FluidKind::wall));
+  for (std::size_t k = 0; k < n; ++k)
+    if (const Index i = s.structure_index[k]; i >= 0) {
+      if (structure_volume_.size() <= static_cast<std::size_t>(i)) structure_volume_.resize(i + 1, 0);
+      structure_volume_[i] = s.volume[k];
+    }
+}
+
+template <int D>
+const Index* FluidParticles<D>::neighbour_offset() const {
+  return exec_.device == Device::cuda ? device_neighbours_.offset.data() : neighbours_.offset.data();
 }
 
 template <int D>
 FluidView<D> FluidParticles<D>::view() const {
-  OperatorView<D> op{size(), x_.data(), volume_.data(), neighbours_.offset.data(), neighbours_.index.data(),
-                     kernel_, period_};
+  const Index* index = exec_.device == Device::cuda ? device_neighbours_.index.data() : neighbours_.index.data();
+  OperatorView<D> op{size(), x_.data(), volume_.data(), neighbour_offset(), index, kernel_, period_};
   return {op,       kind_.data(),        wall_velocity_.data(), wall_acceleration_.data(), wall_normal_.data(),
           wall_depth_.data(), dx_};
 }
 
 template <int D>
 void FluidParticles<D>::find_neighbours() {
+  build_neighbours(neighbour_searches_++ % kSortInterval == 0);
+}
+
+template <int D>
+void FluidParticles<D>::build_neighbours(bool sort) {
+  if (exec_.device == Device::cuda) {
+    device_cells_.build(x_.data(), size(), kernel_.support(), period_);
+    if (sort) {
+      reorder(device_cells_.order().data(), size());
+      device_cells_.build(x_.data(), size(), kernel_.support(), period_);
+    }
+    device_neighbours_ = device_neighbour_list(device_cells_, size());
+    return;
+  }
   cells_.build(x_, kernel_.support(), period_);
-  if (neighbour_searches_++ % kSortInterval == 0) {
-    reorder(cells_.order());
+  if (sort) {
+    reorder(cells_.order().data(), size());
     cells_.build(x_, kernel_.support(), period_);
   }
   neighbours_ = neighbour_list(cells_, size());
 }
 
 template <int D>
-void FluidParticles<D>::reorder(const std::vector<Index>& order) {
-  permute(x_, order);
-  permute(u_, order);
-  permute(p_, order);
-  permute(volume_, order);
-  permute(wall_depth_, order);
-  permute(kind_, order);
-  permute(wall_velocity_, order);
-  permute(wall_acceleration_, order);
-  permute(wall_normal_, order);
-  permute(reference_normal_, order);
-  permute(id_, order);
-  permute(structure_index_, order);
-  permute(motion_, order);
-  permute(reference_x_, order);
-  permute(boundary_force_, order);
-  permute_work(order);
+void FluidParticles<D>::reorder(const Index* order, Index count) {
+  for (auto* v : {&x_, &u_, &wall_velocity_, &wall_acceleration_, &wall_normal_, &reference_normal_, &reference_x_,
+                  &boundary_force_})
+    permute(*v, order, count);
+  for (auto* v : {&p_, &volume_, &wall_depth_}) permute(*v, order, count);
+  for (auto* v : {&id_, &structure_index_, &motion_}) permute(*v, order, count);
+  permute(kind_, order, count);
+  permute_work(order, count);
 }
 
 template <int D>
 Index FluidParticles<D>::remove_fluid_outside(const Vec<D>& lo, const Vec<D>& hi, const Vec<D>& up, Real rim) {
-  std::vector<Index> keep;
+  StateVector<Index> keep(state_allocator<Index>());
   keep.reserve(x_.size());
-  for (Index a = 0; a < size(); ++a) {
-    bool outside = false;
-    for (int d = 0; d < D; ++d) outside = outside || x_[a][d] < lo[d] || x_[a][d] > hi[d];
-    if (kind_[a] != FluidKind::fluid || !outside || !(dot(x_[a], up) > rim)) keep.push_back(a);
-  }
+  const FluidOutsideBox<D> outside{kind_.data(), x_.data(), lo, hi};
+  for (Index a = 0; a < size(); ++a)
+    if (!outside(a) || !(dot(x_[a], up) > rim)) keep.push_back(a);
   const Index removed = size() - static_cast<Index>(keep.size());
   if (removed > 0) {
-    reorder(keep);
+    reorder(keep.data(), static_cast<Index>(keep.size()));
     fluid_count_ -= removed;
-    cells_.build(x_, kernel_.support(), period_);  // no stale list between now and the next step
-    neighbours_ = neighbour_list(cells_, size());
+    build_neighbours(false);  // no stale list between now and the next step
   }
   return removed;
 }
@@ -125,14 +149,10 @@ void FluidParticles<D>::prescribe_walls(Real dt) {
 }
 
 template <int D>
-Vec<D> FluidParticles<D>::gather_structure_force(std::vector<Vec<D>>& force_density) const {
+Vec<D> FluidParticles<D>::gather_structure_force(std::span<Vec<D>> force_density) const {
+  parallel_for(exec_, size(), ScatterStructureForce<D>{structure_index_.data(), boundary_force_.data(), force_density.data()});
   Vec<D> total = Vec<D>::zero();
-  for (Index k = 0; k < size(); ++k) {
-    const Index s = structure_index_[k];
-    if (s < 0) continue;
-    force_density[s] = boundary_force_[k];
-    total += volume_[k] * boundary_force_[k];
-  }
+  for (std::size_t s = 0; s < structure_volume_.size(); ++s) total += structure_volume_[s] * force_density[s];
   return total;
 }
 
@@ -154,7 +174,7 @@ void FluidParticles<D>::move_structure(std::span<const Vec<D>> x, std::span<cons
 }
 
 template <int D>
-void FluidParticles<D>::set_structure_acceleration(const std::vector<Vec<D>>& a) {
+void FluidParticles<D>::set_structure_acceleration(std::span<const Vec<D>> a) {
   parallel_for(exec_, size(), FollowStructureAcceleration<D>{structure_index_.data(), a.data(), wall_acceleration_.data()});
 }
 
@@ -254,9 +274,12 @@ Real FluidParticles<D>::front(Real height) const {
 
 template <int D>
 Index FluidParticles<D>::first_non_finite() const {
-  for (Index a = 0; a < size(); ++a)
-    if (!std::isfinite(norm2(x_[a])) || !std::isfinite(norm2(u_[a])) || !std::isfinite(p_[a])) return a;
-  return -1;
+  return first_particle(exec_, size(), NonFiniteState<D>{x_.data(), u_.data(), p_.data()});
+}
+
+template <int D>
+Index FluidParticles<D>::first_outside(const Vec<D>& lo, const Vec<D>& hi) const {
+  return first_particle(exec_, size(), FluidOutsideBox<D>{kind_.data(), x_.data(), lo, hi});
 }
 
 template class FluidParticles<2>;

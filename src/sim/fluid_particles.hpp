@@ -4,11 +4,14 @@
 // the time loop reads (energies, probes, penetration). The fluid models derive from it and add their
 // own step: the projection ISPH of seed 001 (sim/isph.hpp) and the weakly compressible comparator of
 // seed 002 (sim/wcsph.hpp).
+#include <algorithm>
 #include <limits>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "core/device_memory.hpp"
+#include "core/device_neighbour_search.hpp"
 #include "core/neighbour_search.hpp"
 #include "io/case.hpp"
 #include "io/output.hpp"
@@ -20,14 +23,20 @@
 
 namespace isph {
 
-// v[k] = v_old[order[k]] for k < order.size(), and v gets order.size() elements: per-particle data
-// follows a re-sort of the particles (order a permutation) or a removal (order the kept particles).
+// One array follows a re-sort or a removal: out[k] = in[order[k]].
 template <class T>
-void permute(std::vector<T>& v, const std::vector<Index>& order) {
-  std::vector<T> copy(v);
-  v.resize(order.size());
-  for (std::size_t k = 0; k < order.size(); ++k) v[k] = copy[order[k]];
-}
+struct GatherElements {
+  const T* in;
+  const Index* order;
+  T* out;
+  ISPH_HD void operator()(Index k) const { out[k] = in[order[k]]; }
+};
+template <class T>
+struct CopyElements {
+  const T* in;
+  T* out;
+  ISPH_HD void operator()(Index k) const { out[k] = in[k]; }
+};
 
 // Everything a fluid model needs, built by build_scene (sim/scene.cpp).
 template <int D>
@@ -51,6 +60,7 @@ struct FluidSetup {
   Vec<D> gravity = Vec<D>::zero();
   Real reference_velocity = 0;        // floor on U in Eq. 49 (resolved from the case)
   FluidSpec settings;
+  Device device = Device::cpu;        // cuda: the state lives in managed memory and every particle loop runs on the GPU
   bool fsi_shifting = true;           // the FSI shifting layer (Eqs. 27-30)
   std::string interaction_force = "pairwise";  // pairwise | gradient (Eq. 48 literally; structure/interaction.hpp)
 };
@@ -105,12 +115,12 @@ class FluidParticles {
   Index size() const { return static_cast<Index>(x_.size()); }
   Index fluid_count() const { return fluid_count_; }
   Index wall_count() const { return wall_count_; }
-  const std::vector<Vec<D>>& position() const { return x_; }
-  const std::vector<Vec<D>>& velocity() const { return u_; }
-  const std::vector<Real>& pressure() const { return p_; }
-  const std::vector<FluidKind>& kind() const { return kind_; }
-  const std::vector<Index>& id() const { return id_; }
-  const std::vector<Index>& structure_index() const { return structure_index_; }  // -1: not a structure particle
+  const StateVector<Vec<D>>& position() const { return x_; }
+  const StateVector<Vec<D>>& velocity() const { return u_; }
+  const StateVector<Real>& pressure() const { return p_; }
+  const StateVector<FluidKind>& kind() const { return kind_; }
+  const StateVector<Index>& id() const { return id_; }
+  const StateVector<Index>& structure_index() const { return structure_index_; }  // -1: not a structure particle
   Real time() const { return time_; }
   // Work done on the fluid by the moving walls' pressure, integrated over the steps (their viscous
   // traction is not counted).
@@ -127,6 +137,8 @@ class FluidParticles {
   Real front(Real height) const;
   // First particle with a non-finite position, velocity or pressure, or -1.
   Index first_non_finite() const;
+  // First fluid particle outside the box [lo, hi], or -1.
+  Index first_outside(const Vec<D>& lo, const Vec<D>& hi) const;
   // Removes the fluid particles outside the box [lo, hi] that are also above `rim` along `up` (thrown
   // out over the walls; wall and structure particles stay); returns how many. The others keep their
   // order and stable ids.
@@ -134,10 +146,11 @@ class FluidParticles {
 
   // Structure particles follow the TLSPH solver: positions, velocities and deformation gradients,
   // indexed as in the TLSPH solver. The surface normals turn with F: n = F^{-T} N / |F^{-T} N|.
+  // On the cuda device the three arrays must be device-visible (managed memory).
   void move_structure(std::span<const Vec<D>> x, std::span<const Vec<D>> v, std::span<const Mat<D>> F);
   // The structure's acceleration over the current step (a_s, what the boundary pressure of structure
-  // particles balances), indexed as in the TLSPH solver.
-  virtual void set_structure_acceleration(const std::vector<Vec<D>>& a);
+  // particles balances), indexed as in the TLSPH solver (device-visible on the cuda device).
+  virtual void set_structure_acceleration(std::span<const Vec<D>> a);
   // Fluid particles inside the body of one kind (structure or wall), and the smallest fluid-body particle
   // distance (inf if none is within the kernel support).
   InteractionReport<D> contact(FluidKind body);
@@ -145,30 +158,61 @@ class FluidParticles {
  protected:
   FluidView<D> view() const;
   // Cell list and CSR neighbour list at the current positions; every kSortInterval calls the particles
-  // are first re-sorted by cell (with permute_work for the model's own per-particle arrays).
+  // are first re-sorted by cell (with permute_work for the model's own per-particle arrays). On the
+  // cuda device both are built there (DeviceCellList).
   void find_neighbours();
-  // Reorders (or, from remove_fluid_outside, shrinks) the particle state: v[k] = v[order[k]].
-  void reorder(const std::vector<Index>& order);
-  virtual void permute_work(const std::vector<Index>& order) = 0;
+  // Start of the CSR neighbour list (n + 1 offsets) on the device in use.
+  const Index* neighbour_offset() const;
+  // The cell list and the neighbour list, after a re-sort by cell when `sort`.
+  void build_neighbours(bool sort);
+  // Reorders (or, from remove_fluid_outside, shrinks) the particle state: v[k] = v[order[k]] for
+  // k < count, `order` readable by the device in use.
+  void reorder(const Index* order, Index count);
+  virtual void permute_work(const Index* order, Index count) = 0;
+  // v[k] = v_old[order[k]] for k < count, and v keeps count elements (count <= v.size()): one array
+  // follows a re-sort or a removal, gathered by the launcher through a scratch buffer.
+  template <class T>
+  void permute(StateVector<T>& v, const Index* order, Index count) {
+    permute_scratch_.resize(std::max(permute_scratch_.size(), count * sizeof(T)));
+    T* gathered = reinterpret_cast<T*>(permute_scratch_.data());
+    parallel_for(exec_, count, GatherElements<T>{v.data(), order, gathered});
+    v.resize(count);
+    parallel_for(exec_, count, CopyElements<T>{gathered, v.data()});
+  }
+  // An allocator for the state: managed memory on the cuda device, host memory otherwise.
+  template <class T>
+  StateAllocator<T> state_allocator() const {
+    return StateAllocator<T>(exec_.device == Device::cuda);
+  }
+  // One value per particle, in the state's memory.
+  template <class T>
+  StateVector<T> state_array(const T& value) const {
+    return StateVector<T>(static_cast<std::size_t>(size()), value, state_allocator<T>());
+  }
   // Moving walls over [t, t + dt] (t = time_).
   void prescribe_walls(Real dt);
   // From the boundary force per unit volume (boundary_force_, filled by the model): the force density
   // on the structure particles indexed as in TLSPH, and its sum; the power of the moving walls on the fluid.
-  Vec<D> gather_structure_force(std::vector<Vec<D>>& force_density) const;
+  Vec<D> gather_structure_force(std::span<Vec<D>> force_density) const;
   Real moving_wall_power() const;
 
+  Exec exec_{};
   // particle state (permuted together by find_neighbours)
-  std::vector<Vec<D>> x_, u_;
-  std::vector<Real> p_, volume_, wall_depth_;
-  std::vector<FluidKind> kind_;
-  std::vector<Vec<D>> wall_velocity_, wall_acceleration_, wall_normal_, reference_normal_;
-  std::vector<Index> id_, structure_index_, motion_;
-  std::vector<Vec<D>> reference_x_;  // initial positions (moving walls follow their motion from them)
-  std::vector<Vec<D>> boundary_force_;  // pressure force per unit volume on wall and structure particles
-  std::vector<unsigned char> inside_;
-  std::vector<Real> body_distance_, body_depth_;
-  CellList<D> cells_;
+  StateVector<Vec<D>> x_, u_;
+  StateVector<Real> p_, volume_, wall_depth_;
+  StateVector<FluidKind> kind_;
+  StateVector<Vec<D>> wall_velocity_, wall_acceleration_, wall_normal_, reference_normal_;
+  StateVector<Index> id_, structure_index_, motion_;
+  StateVector<Vec<D>> reference_x_;  // initial positions (moving walls follow their motion from them)
+  StateVector<Vec<D>> boundary_force_;  // pressure force per unit volume on wall and structure particles
+  StateVector<unsigned char> inside_;
+  StateVector<Real> body_distance_, body_depth_;
+  std::vector<Real> structure_volume_;  // volume of each structure particle, indexed as in TLSPH
+  StateVector<unsigned char> permute_scratch_;
+  CellList<D> cells_;  // cpu
   NeighbourList neighbours_;
+  DeviceCellList<D> device_cells_;  // cuda
+  DeviceNeighbourList device_neighbours_;
 
   Index fluid_count_ = 0, wall_count_ = 0;
   long long neighbour_searches_ = 0;
@@ -180,7 +224,6 @@ class FluidParticles {
   Vec<D> gravity_;
   FluidSpec settings_;
   bool has_structure_;
-  Exec exec_{};
 };
 
 }  // namespace isph

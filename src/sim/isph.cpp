@@ -42,9 +42,18 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
       extrapolate_surface_(s.settings.surface_pressure == "extrapolated"),
       fsi_shifting_(s.fsi_shifting),
       pairwise_force_(s.interaction_force == "pairwise") {
-  const std::size_t n = x_.size();
-  wall_moment_.assign(n, Vec<D>::zero());
-  L_structure_.assign(n, Mat<D>::identity());
+  for (auto* v : {&x_old_, &u_star_, &u_new_, &grad_p_, &surface_normal_, &shift_, &wall_moment_}) *v = this->state_array(Vec<D>::zero());
+  for (auto* v : {&L_, &Bhat_, &L_structure_}) *v = this->state_array(Mat<D>::identity());
+  grad_u_ = this->state_array(Mat<D>::zero());
+  div_r_ = this->state_array(Real{D});
+  alpha_ = this->state_array(Real{1});
+  for (auto* v : {&div_u_star_, &eddy_viscosity_, &pressure_volume_, &rhs_, &p_trial_}) *v = this->state_array(Real{0});
+  for (auto* v : {&detected_, &cls_}) *v = this->state_array(SurfaceClass::interior);
+  for (auto* m : {&full_matrix_, &matrix_}) {
+    m->row_offset = StateVector<int>(this->template state_allocator<int>());
+    m->col = StateVector<int>(this->template state_allocator<int>());
+    m->val = StateVector<double>(this->template state_allocator<double>());
+  }
   const Real full = D;  // div r in a full support
   thresholds_.chi = settings_.surface_threshold > 0 ? settings_.surface_threshold : full - 0.6;
   thresholds_.chi_full = settings_.surface_full > 0 ? settings_.surface_full : full - 0.4;
@@ -52,35 +61,18 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
   if (settings_.ppe.fallback != "none")
     fallback_ = make_linear_solver(solver_settings(settings_.ppe, settings_.ppe.fallback));
   solver_name_ = solver_->name();
-  x_old_.resize(n);
-  u_star_.resize(n);
-  u_new_.resize(n);
-  grad_p_.resize(n);
-  surface_normal_.resize(n);
-  shift_.assign(n, Vec<D>::zero());
-  L_.assign(n, Mat<D>::identity());
-  Bhat_.assign(n, Mat<D>::identity());
-  grad_u_.assign(n, Mat<D>::zero());
-  div_r_.assign(n, D);
-  alpha_.assign(n, 1);
-  div_u_star_.assign(n, 0);
-  eddy_viscosity_.assign(n, 0);
-  pressure_volume_.assign(n, 0);
-  detected_.assign(n, SurfaceClass::interior);
-  cls_.assign(n, SurfaceClass::interior);
-  rhs_.assign(n, 0);
 }
 
 // The work arrays are refilled every step before they are read; they follow the particles anyway, so
 // that their sizes follow a removal and the snapshot fields (classes, div r, shift) stay aligned.
 template <int D>
-void IsphSolver<D>::permute_work(const std::vector<Index>& order) {
-  for (auto* v : {&x_old_, &u_star_, &u_new_, &grad_p_, &surface_normal_, &shift_, &wall_moment_}) permute(*v, order);
-  for (auto* v : {&L_, &Bhat_, &grad_u_, &L_structure_}) permute(*v, order);
-  for (auto* v : {&div_r_, &alpha_, &div_u_star_, &eddy_viscosity_, &pressure_volume_}) permute(*v, order);
-  permute(rhs_, order);  // p_trial_ is a copy of p_ from each solve on
-  permute(detected_, order);
-  permute(cls_, order);
+void IsphSolver<D>::permute_work(const Index* order, Index count) {
+  for (auto* v : {&x_old_, &u_star_, &u_new_, &grad_p_, &surface_normal_, &shift_, &wall_moment_}) this->permute(*v, order, count);
+  for (auto* v : {&L_, &Bhat_, &grad_u_, &L_structure_}) this->permute(*v, order, count);
+  for (auto* v : {&div_r_, &alpha_, &div_u_star_, &eddy_viscosity_, &pressure_volume_}) this->permute(*v, order, count);
+  this->permute(rhs_, order, count);  // p_trial_ is a copy of p_ from each solve on
+  this->permute(detected_, order, count);
+  this->permute(cls_, order, count);
 }
 
 template <int D>
@@ -169,7 +161,7 @@ void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
     parallel_for(exec_, n, CorrectedDivergence<D>{pv.op, L_.data(), u_star_.data(), div_u_star_.data()});
     full_matrix_.rows = n;
     full_matrix_.row_offset.resize(n + 1);
-    parallel_for(exec_, n + 1, PpeRowOffsets{neighbours_.offset.data(), full_matrix_.row_offset.data()});
+    parallel_for(exec_, n + 1, PpeRowOffsets{this->neighbour_offset(), full_matrix_.row_offset.data()});
     full_matrix_.col.resize(full_matrix_.row_offset[n]);
     full_matrix_.val.resize(full_matrix_.row_offset[n]);
     parallel_for(exec_, n, PpeRowFill<D>{pv, L_.data(), alpha_.data(), div_u_star_.data(), density_, dt, gravity_,
@@ -249,14 +241,14 @@ void IsphSolver<D>::boundary_pressure_force(bool pairwise, FluidKind target) {
 }
 
 template <int D>
-void IsphSolver<D>::set_structure_acceleration(const std::vector<Vec<D>>& a) {
+void IsphSolver<D>::set_structure_acceleration(std::span<const Vec<D>> a) {
   Base::set_structure_acceleration(a);
   parallel_for(exec_, this->size(),
                StructureRowRhs<D>{structure_index_.data(), a.data(), gravity_, wall_moment_.data(), rhs_.data()});
 }
 
 template <int D>
-Vec<D> IsphSolver<D>::structure_pressure_force(std::vector<Vec<D>>& force_density) {
+Vec<D> IsphSolver<D>::structure_pressure_force(std::span<Vec<D>> force_density) {
   boundary_pressure_force(pairwise_force_, FluidKind::structure);
   return this->gather_structure_force(force_density);
 }

@@ -4,6 +4,7 @@
 // dynamics is TLSPH's, structure/). The step reads like the algorithm; every particle loop
 // is a functor (sim/fluid_functors.hpp, poisson/, shifting/) run by the common launcher.
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -38,36 +39,36 @@ class IsphSolver : public FluidParticles<D> {
   void solve_pressure(FluidStepReport& report, PhaseTimer& timer);
   void end_step(Real dt, PhaseTimer& timer);
 
-  const std::vector<SurfaceClass>& surface_class() const { return cls_; }
-  const std::vector<Real>& position_divergence() const { return div_r_; }
-  const std::vector<Vec<D>>& shift() const { return shift_; }
+  const StateVector<SurfaceClass>& surface_class() const { return cls_; }
+  const StateVector<Real>& position_divergence() const { return div_r_; }
+  const StateVector<Vec<D>>& shift() const { return shift_; }
   const std::string& ppe_solver_name() const { return solver_name_; }
 
   // The structure's acceleration over the current step, a_s in the PPE rows of structure particles
   // (g - a_s, PpeRowFill); between begin_step and solve_pressure it updates the assembled right-hand side.
-  void set_structure_acceleration(const std::vector<Vec<D>>& a) override;
+  void set_structure_acceleration(std::span<const Vec<D>> a) override;
   // After solve_pressure: the pressure force per unit volume on the structure particles (Eq. 48 times
   // rho_s, or its pairwise form), indexed as in the TLSPH solver, and its sum (the force on the structure).
-  Vec<D> structure_pressure_force(std::vector<Vec<D>>& force_density);
+  Vec<D> structure_pressure_force(std::span<Vec<D>> force_density);
 
  private:
   using Base::x_, Base::u_, Base::p_, Base::volume_, Base::kind_, Base::wall_velocity_, Base::wall_acceleration_,
-      Base::wall_normal_, Base::structure_index_, Base::boundary_force_, Base::neighbours_, Base::motions_,
+      Base::wall_normal_, Base::structure_index_, Base::boundary_force_, Base::motions_,
       Base::time_, Base::wall_work_, Base::density_, Base::viscosity_, Base::kernel_, Base::period_, Base::gravity_,
       Base::settings_, Base::has_structure_, Base::exec_, Base::id_, Base::reference_velocity_;
-  void permute_work(const std::vector<Index>& order) override;
+  void permute_work(const Index* order, Index count) override;
   void compress_matrix();
   // The pressure force per unit volume on the boundary particles of one kind, into boundary_force_.
   void boundary_pressure_force(bool pairwise, FluidKind target);
 
-  // work arrays
-  std::vector<Vec<D>> x_old_, u_star_, u_new_, grad_p_, surface_normal_, shift_;
-  std::vector<Mat<D>> L_, Bhat_, grad_u_;
-  std::vector<Real> div_r_, alpha_, div_u_star_, eddy_viscosity_, pressure_volume_;
-  std::vector<SurfaceClass> detected_, cls_;
-  std::vector<Vec<D>> wall_moment_;
-  std::vector<Mat<D>> L_structure_;
-  std::vector<double> rhs_, p_trial_;
+  // work arrays (in managed memory on the cuda device, like the state)
+  StateVector<Vec<D>> x_old_, u_star_, u_new_, grad_p_, surface_normal_, shift_;
+  StateVector<Mat<D>> L_, Bhat_, grad_u_;
+  StateVector<Real> div_r_, alpha_, div_u_star_, eddy_viscosity_, pressure_volume_;
+  StateVector<SurfaceClass> detected_, cls_;
+  StateVector<Vec<D>> wall_moment_;
+  StateVector<Mat<D>> L_structure_;
+  StateVector<double> rhs_, p_trial_;
   CsrMatrix full_matrix_, matrix_;  // as assembled; without zeros, columns sorted
 
   int solves_since_assembly_ = 0;  // PPE solves with the assembled matrix (the later ones reuse its set-up)

@@ -350,17 +350,6 @@ void write_fluid_snapshot(SnapshotWriter& writer, double t, const FluidParticles
   writer.write(t, pos, fields);
 }
 
-// First fluid particle outside the escape box, or -1.
-template <int D>
-Index find_escape(const FluidParticles<D>& solver, const Scene<D>& scene) {
-  for (Index a = 0; a < solver.size(); ++a) {
-    if (solver.kind()[a] != FluidKind::fluid) continue;
-    for (int d = 0; d < D; ++d)
-      if (solver.position()[a][d] < scene.domain_lo[d] || solver.position()[a][d] > scene.domain_hi[d]) return a;
-  }
-  return -1;
-}
-
 template <int D>
 RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene, PhaseTimer& timer) {
   std::vector<std::string> columns;
@@ -378,6 +367,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   WcsphSolver<D>* wcsph = nullptr;
   std::unique_ptr<StructureCoupling<D>> coupling;
   timer.time("setup", [&] {
+    scene.fluid.device = opt.device;
     if (spec.fluid.model == "wcsph") {
       auto model = std::make_unique<WcsphSolver<D>>(std::move(scene.fluid));
       wcsph = model.get();
@@ -389,7 +379,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
     }
     if (scene.has_structure)
       coupling = std::make_unique<StructureCoupling<D>>(std::move(scene.structure), spec.coupling, spec.structure.courant,
-                                                        gravity_vector<D>(spec.gravity));
+                                                        gravity_vector<D>(spec.gravity), opt.device);
   });
   FluidParticles<D>& solver = *solver_ptr;
   frame.set_output_interval(solver.time_step(), 20);
@@ -484,7 +474,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
                     "reached %.4g m/s",
                     dt, dt / first_dt, t, step, solver.max_speed());
       frame.diverge(buf);
-    } else if (Index out = find_escape(solver, scene); out >= 0) {
+    } else if (Index out = solver.first_outside(scene.domain_lo, scene.domain_hi); out >= 0) {
       // Thrown out over the walls: removed (fluid.escape = "remove"); through a wall or the floor: diverged.
       if (spec.fluid.escape == "remove") {
         const Index removed = solver.remove_fluid_outside(scene.domain_lo, scene.domain_hi, scene.up, scene.rim);
@@ -493,7 +483,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
         if (removed > 0 && opt.progress)
           std::fprintf(stderr, "[%s] t = %.6g s: %d fluid particle(s) thrown out over the walls were removed (%lld so far)\n",
                        spec.name.c_str(), t, removed, removed_total);
-        out = find_escape(solver, scene);
+        out = solver.first_outside(scene.domain_lo, scene.domain_hi);
       }
       if (out >= 0) {
         std::snprintf(buf, sizeof buf, "fluid particle id %d escaped the tank at t = %.6g s (step %lld), at (%g, %g)",
@@ -548,9 +538,6 @@ RunResult run_dimension(const CaseSpec& spec, const RunOptions& opt) {
   PhaseTimer timer;
   Scene<D> scene;
   timer.time("setup", [&] { scene = build_scene<D>(spec); });
-  if (scene.has_fluid && opt.device != Device::cpu)
-    throw std::runtime_error("--device cuda: this version steps structures alone on the GPU; a case with fluid runs on "
-                             "the cpu (its PPE may still be solved on the GPU: fluid.ppe.backend = \"cuda\")");
   return scene.has_fluid ? run_fluid<D>(spec, opt, scene, timer) : run_structure<D>(spec, opt, scene, timer);
 }
 

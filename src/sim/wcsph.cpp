@@ -44,13 +44,11 @@ WcsphSolver<D>::WcsphSolver(FluidSetup<D> s)
                                                   : 10 * std::sqrt(2.0) * reference_velocity_;
   self_weight_ = kernel_.value(0);
   full_sum_ = lattice_kernel_sum(kernel_, s.dx);
-  rho_.assign(n, density_);
-  drho_dt_.assign(n, 0);
-  acceleration_.assign(n, Vec<D>::zero());
-  viscous_.assign(n, Vec<D>::zero());
-  L_.assign(n, Mat<D>::identity());
-  Bhat_.assign(n, Mat<D>::identity());
-  grad_u_.assign(n, Mat<D>::zero());
+  rho_ = this->state_array(density_);
+  drho_dt_ = this->state_array(Real{0});
+  for (auto* v : {&acceleration_, &viscous_}) *v = this->state_array(Vec<D>::zero());
+  for (auto* v : {&L_, &Bhat_}) *v = this->state_array(Mat<D>::identity());
+  grad_u_ = this->state_array(Mat<D>::zero());
 
   // The fluid starts in hydrostatic equilibrium below the highest fluid particle of its column (the
   // lattice column through it, along gravity), p = rho0 |g| depth, rho from Eq. 2.
@@ -79,10 +77,10 @@ WcsphSolver<D>::WcsphSolver(FluidSetup<D> s)
 }
 
 template <int D>
-void WcsphSolver<D>::permute_work(const std::vector<Index>& order) {
-  for (auto* v : {&rho_, &drho_dt_}) permute(*v, order);
-  for (auto* v : {&acceleration_, &viscous_}) permute(*v, order);
-  for (auto* v : {&L_, &Bhat_, &grad_u_}) permute(*v, order);
+void WcsphSolver<D>::permute_work(const Index* order, Index count) {
+  for (auto* v : {&rho_, &drho_dt_}) this->permute(*v, order, count);
+  for (auto* v : {&acceleration_, &viscous_}) this->permute(*v, order, count);
+  for (auto* v : {&L_, &Bhat_, &grad_u_}) this->permute(*v, order, count);
 }
 
 template <int D>

@@ -29,6 +29,7 @@
 // A coupled structure advances over each acoustic step under the pressure force of the step's start
 // (an explicit, staggered coupling: the fluid's compressibility keeps it stable at these small steps).
 #include <functional>
+#include <span>
 #include <vector>
 
 #include "sim/fluid_particles.hpp"
@@ -55,7 +56,7 @@ class WcsphSolver : public FluidParticles<D> {
 
   // The pressure force per unit volume on the structure particles at the last force evaluation,
   // indexed as in the TLSPH solver, and its sum.
-  Vec<D> structure_pressure_force(std::vector<Vec<D>>& force_density) const {
+  Vec<D> structure_pressure_force(std::span<Vec<D>> force_density) const {
     return this->gather_structure_force(force_density);
   }
 
@@ -65,18 +66,18 @@ class WcsphSolver : public FluidParticles<D> {
 
  private:
   using Base::x_, Base::u_, Base::p_, Base::volume_, Base::kind_, Base::wall_velocity_, Base::boundary_force_,
-      Base::neighbours_, Base::motions_, Base::time_, Base::wall_work_, Base::density_, Base::viscosity_,
+      Base::motions_, Base::time_, Base::wall_work_, Base::density_, Base::viscosity_,
       Base::kernel_, Base::period_, Base::gravity_, Base::settings_, Base::exec_, Base::reference_velocity_;
-  void permute_work(const std::vector<Index>& order) override;
+  void permute_work(const Index* order, Index count) override;
   // Neighbours, kernel cache, density reinitialisation (dual criteria) and the viscous force.
   void configure(Real dt, PhaseTimer& timer);
   // Boundary pressure, then the pressure force on every particle (acceleration_, boundary_force_).
   void evaluate_forces();
   void acoustic_step(Real dt, PhaseTimer& timer, const AcousticHook& hook);
 
-  std::vector<Real> rho_, drho_dt_;
-  std::vector<Vec<D>> acceleration_, viscous_;  // pressure acceleration (a^n of Verlet), viscous acceleration
-  std::vector<Mat<D>> L_, Bhat_, grad_u_;
+  StateVector<Real> rho_, drho_dt_;
+  StateVector<Vec<D>> acceleration_, viscous_;  // pressure acceleration (a^n of Verlet), viscous acceleration
+  StateVector<Mat<D>> L_, Bhat_, grad_u_;
   Real sound_speed_, self_weight_, full_sum_;
   Real advection_courant_, acoustic_courant_, limiter_;
   bool dual_, kernel_correction_, forces_current_ = false;

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <limits>
 #include <numbers>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -252,6 +253,35 @@ TEST(LinearSolver, BadSizesThrow) {
   bad = m.A;
   bad.val.pop_back();
   EXPECT_THROW(solver->solve(bad, m.b, x), std::invalid_argument);
+}
+
+// The span interface, called with StateVectors as a solver that keeps its arrays in them does (host
+// memory here): the answer of the std::vector overload. A span x must have A.rows entries; an empty
+// std::vector x is resized only once the system has passed the checks.
+TEST(LinearSolver, SpansOfStateVectorsSolveAsVectorsDo) {
+  const auto m = manufactured(20);
+  const StateVector<double> b(m.b.begin(), m.b.end());
+  for (const auto& c : all_combinations()) {
+    if (c.backend == "hypre" && !hypre_available()) continue;
+    std::vector<double> x_vector;
+    const auto rv = make_linear_solver(settings(c.backend, c.method, c.preconditioner))->solve(m.A, m.b, x_vector);
+    StateVector<double> x(b.size(), 0.0);
+    const auto rs = make_linear_solver(settings(c.backend, c.method, c.preconditioner))
+                        ->solve(m.A, std::span<const double>(b), std::span<double>(x));
+    EXPECT_TRUE(rs.converged) << c.backend << c.method << c.preconditioner << ": " << rs.message;
+    EXPECT_EQ(rs.iterations, rv.iterations) << c.backend << c.method << c.preconditioner;
+    EXPECT_LT(relative_difference(std::vector<double>(x.begin(), x.end()), x_vector), 1e-12)
+        << c.backend << c.method << c.preconditioner;
+  }
+  auto solver = make_linear_solver(settings("native", "bicgstab", "jacobi"));
+  StateVector<double> empty_x, short_x(b.size() - 1, 0.0);
+  EXPECT_THROW(solver->solve(m.A, std::span<const double>(b), std::span<double>(empty_x)), std::invalid_argument);
+  EXPECT_THROW(solver->solve(m.A, std::span<const double>(b), std::span<double>(short_x)), std::invalid_argument);
+  auto bad = m.A;
+  bad.col[3] = bad.rows;
+  std::vector<double> x;
+  EXPECT_THROW(solver->solve(bad, m.b, x), std::invalid_argument);
+  EXPECT_TRUE(x.empty());
 }
 
 TEST(LinearSolver, EmptySystemIsTrivial) {
