@@ -182,11 +182,11 @@ double relative_residual(const CsrMatrix& A, std::span<const double> b, std::spa
 
 SolveReport LinearSolver::solve(const CsrMatrix& A, const std::vector<double>& b, std::vector<double>& x,
                                 bool same_matrix) {
-  if (x.empty()) {
-    check_linear_system(A, b, b);  // b stands in for x: a malformed system throws with x still empty
-    x.assign(b.size(), 0.0);
-  }
-  return solve(A, std::span<const double>(b), std::span<double>(x), same_matrix);
+  if (!x.empty()) return solve(A, std::span<const double>(b), std::span<double>(x), same_matrix);
+  std::vector<double> zero_guess(static_cast<std::size_t>(std::max(A.rows, 0)), 0.0);  // x stays empty if this throws
+  const SolveReport report = solve(A, std::span<const double>(b), std::span<double>(zero_guess), same_matrix);
+  x.swap(zero_guess);
+  return report;
 }
 
 namespace detail {

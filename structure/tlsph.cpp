@@ -112,6 +112,8 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
     gradient_stress_.assign(static_cast<std::size_t>(D) * n_, Mat<D>::zero());
   }
   psi_.assign(n_, 0);
+  cell_moment_.resize(n_);
+  for (Index a = 0; a < n_; ++a) cell_moment_[a] = std::pow(volume_[a], 2.0 / D) / 12;
   for (auto* v : {&x0_, &v0_, &x_sum_, &v_sum_, &saved_x_, &saved_v_, &saved_acc_}) v->assign(n_, Vec<D>::zero());
   if (exec_.device == Device::cuda) {
     make_state_device_visible();
@@ -123,7 +125,7 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
 template <int D>
 void TlsphSolver<D>::make_state_device_visible() {
   make_device_visible(materials_);
-  make_device_visible(volume_), make_device_visible(hg_weight_), make_device_visible(psi_);
+  make_device_visible(volume_), make_device_visible(cell_moment_), make_device_visible(hg_weight_), make_device_visible(psi_);
   make_device_visible(material_);
   make_device_visible(fixed_);
   make_device_visible(nbr_offset_), make_device_visible(nbr_);
@@ -145,6 +147,7 @@ TlsphView<D> TlsphSolver<D>::view() {
   s.rcgrad = rcgrad_.data();
   s.cgrad_sum = cgrad_sum_.data();
   s.volume = volume_.data();
+  s.cell_moment = cell_moment_.data();
   s.material = material_.data();
   s.materials = materials_.data();
   s.fixed = fixed_.data();
@@ -263,7 +266,7 @@ void TlsphSolver<D>::prescribe_clamps(Real t) {
 template <int D>
 Mat<D> TlsphSolver<D>::cauchy_stress(Index a) const {
   const Mat<D>& F = F_[a];
-  return (1.0 / determinant(F)) * (F * svk_stress(F, materials_[material_[a]]) * transpose(F));
+  return (1.0 / determinant(F)) * (F * svk_stress(green_strain(F), materials_[material_[a]]) * transpose(F));
 }
 
 template <int D>

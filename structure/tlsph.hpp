@@ -143,7 +143,7 @@ class TlsphSolver {
   std::vector<LoadField<D>> loads_;
   StateVector<Vec<D>> load_acc_, interaction_;
   StateVector<Vec<D>> X_, x_, v_, acc_;
-  StateVector<Real> volume_;
+  StateVector<Real> volume_, cell_moment_;
   std::vector<Real> mass_;
   StateVector<int> material_;
   StateVector<unsigned char> fixed_;

@@ -29,11 +29,10 @@ ISPH_HD inline Mat<D> green_strain(const Mat<D>& F) {
   return 0.5 * (transpose(F) * F - Mat<D>::identity());
 }
 
-// St. Venant-Kirchhoff: Green-Lagrange strain E = (F^T F - I)/2, second Piola-Kirchhoff stress
-// S = C:E, strain energy density psi = lambda/2 tr(E)^2 + mu E:E.
+// St. Venant-Kirchhoff: from the Green-Lagrange strain E = (F^T F - I)/2 (green_strain), the second
+// Piola-Kirchhoff stress S = C:E and the strain energy density psi = lambda/2 tr(E)^2 + mu E:E.
 template <int D>
-ISPH_HD inline Mat<D> svk_stress(const Mat<D>& F, const ElasticMaterial& m, Real* psi = nullptr) {
-  const Mat<D> E = green_strain(F);
+ISPH_HD inline Mat<D> svk_stress(const Mat<D>& E, const ElasticMaterial& m, Real* psi = nullptr) {
   if (psi) {
     const Real trE = trace(E);
     *psi = 0.5 * m.lambda * trE * trE + m.mu * ddot(E, E);
@@ -53,6 +52,7 @@ struct TlsphView {
   const Vec<D>* cgrad_sum;  // S_a = sum_b c_ab
   const Real* hg_weight;    // w_ab = V_b W(|X_ab|) / |X_ab|^2, for hourglass control
   const Real* volume;
+  const Real* cell_moment;  // M_a / V_a = V_a^(2/D) / 12, the cell's second moment per volume (cell quadrature)
   const int* material;
   const ElasticMaterial* materials;
   const unsigned char* fixed;  // clamped particles: prescribed zero displacement
@@ -148,11 +148,12 @@ struct TlsphStress {
         for (int j = 0; j < D; ++j) F(i, j) += uab[i] * g[j];
     }
     Real psi = 0;
-    const Mat<D> S = svk_stress(F, s.materials[s.material[a]], &psi);
+    const Mat<D> E = green_strain(F);
+    const Mat<D> S = svk_stress(E, s.materials[s.material[a]], &psi);
     s.F[a] = F;
     s.stress[a] = F * S;
     s.psi[a] = psi;
-    if (s.cell_quadrature) s.strain[a] = green_strain(F);
+    if (s.cell_quadrature) s.strain[a] = E;
     if (s.hourglass > 0 && !s.quadratic) add_hourglass(s, a, F);
   }
 };
@@ -182,7 +183,7 @@ struct TlsphStrainGradient {
       for (int d = 0; d < D; ++d) G[d] = G[d] + c[d] * dE;
     }
     const ElasticMaterial m = s.materials[s.material[a]];
-    const Real moment = pow(s.volume[a], 2.0 / D) / 12;  // M_a / V_a
+    const Real moment = s.cell_moment[a];
     Real energy = 0;
     for (int d = 0; d < D; ++d) {
       const Mat<D> CG = elastic_stress(G[d], m);

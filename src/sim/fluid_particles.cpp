@@ -52,9 +52,8 @@ FluidParticles<D>::FluidParticles(FluidSetup<D>& s)
   structure_index_ = state_copy(s.structure_index, managed);
   motion_ = state_copy(s.motion, managed);
   reference_x_ = x_;
-  wall_acceleration_ = state_copy(std::vector<Vec<D>>(n, Vec<D>::zero()), managed);
-  boundary_force_ = wall_acceleration_;
-  p_ = state_copy(std::vector<Real>(n, 0), managed);
+  wall_acceleration_ = boundary_force_ = state_array(Vec<D>::zero());
+  p_ = state_array(Real{0});
   for (auto* v : {&inside_, &permute_scratch_}) *v = StateVector<unsigned char>(state_allocator<unsigned char>());
   for (auto* v : {&body_distance_, &body_depth_}) *v = StateVector<Real>(state_allocator<Real>());
   has_structure_ = std::count(s.kind.begin(), s.kind.end(), FluidKind::structure) > 0;

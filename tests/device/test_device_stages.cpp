@@ -86,7 +86,7 @@ TEST(DeviceStages, TlsphStressAndAccelerationCudaMatchesCpu) {
     DeviceArray<Vec<2>> X(vec(h.X, n)), x(vec(h.x, n)), v(vec(h.v, n)), cgrad(vec(h.cgrad, pairs)), rcgrad(vec(h.rcgrad, pairs)), cgrad_sum(vec(h.cgrad_sum, n)),
         load(std::vector<Vec<2>>(1, Vec<2>::zero()));
     DeviceArray<Index> off(vec(h.nbr_offset, n + 1)), nbr(vec(h.nbr, pairs));
-    DeviceArray<Real> hg_weight(vec(h.hg_weight, pairs)), volume(vec(h.volume, n));
+    DeviceArray<Real> hg_weight(vec(h.hg_weight, pairs)), volume(vec(h.volume, n)), cell_moment(vec(h.cell_moment, n));
     DeviceArray<int> mat(vec(h.material, n));
     DeviceArray<ElasticMaterial> mats(vec(h.materials, 1));
     DeviceArray<unsigned char> fixed(vec(h.fixed, n));
@@ -104,6 +104,7 @@ TEST(DeviceStages, TlsphStressAndAccelerationCudaMatchesCpu) {
     TlsphView<2> d = h;
     d.X = X.data(), d.x = x.data(), d.v = v.data(), d.cgrad = cgrad.data();
     d.rcgrad = rcgrad.data(), d.cgrad_sum = cgrad_sum.data(), d.hg_weight = hg_weight.data(), d.volume = volume.data();
+    d.cell_moment = cell_moment.data();
     d.nbr_offset = off.data(), d.nbr = nbr.data(), d.material = mat.data(), d.materials = mats.data();
     d.fixed = fixed.data(), d.load_acc = load.data(), d.loads = 0;
     d.F = F.data(), d.stress = stress.data(), d.psi = psi.data(), d.acc = acc.data();

@@ -89,7 +89,7 @@ TEST(Tlsph, QuadraticGradientIsExactForQuadraticFields) {
       Real elastic = 0, stored = 0;
       for (Index a = 0; a < v.n; ++a) {
         Real psi = 0;
-        svk_stress(v.F[a], s.materials[0], &psi);
+        svk_stress(green_strain(v.F[a]), s.materials[0], &psi);
         elastic += v.volume[a] * psi;
         stored += v.volume[a] * v.psi[a];
       }
