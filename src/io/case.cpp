@@ -7,7 +7,7 @@ namespace isph {
 
 namespace {
 
-// Points exactly on a face (lattice points computed as origin + (i + 1/2) dx) carry round-off
+// Points exactly on a face (lattice points computed as origin + (i + offset) dx) carry round-off
 // relative to the coordinates' magnitude, so faces are widened by this fraction of that magnitude.
 constexpr double kRelativeTolerance = 1e-12;
 

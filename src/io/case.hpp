@@ -79,27 +79,32 @@ struct MotionSpec {
   std::vector<double> times, values;         // csv: the rows, read by the loader
 };
 
-// A body: a primitive filled on a lattice of spacing dx (cell-centred: the lattice points
-// inside the shape, with the lattice anchored at `lattice_origin`).
+// A body: a primitive filled on a lattice of spacing dx (by default cell-centred: the lattice points
+// inside the shape, with the lattice anchored at `lattice_origin`). Every particle has the volume dx^D.
 struct BodySpec {
   std::string name;
   ParticleKind kind = ParticleKind::structure;
   std::string material;                      // name in the material table
   Shape shape;
   std::vector<Shape> clamps;                 // particles of this body inside any clamp are fixed
-  std::array<double, 3> lattice_origin{};    // lattice points at origin + (i + 1/2) dx
+  std::array<double, 3> lattice_origin{};    // lattice points at origin + (i + offset) dx
+  // Per axis, in units of dx, in [0, 1): 1/2 puts the particles at cell centres, so that the shape's
+  // faces lie dx/2 beyond its outer particles; 0 puts particle rows on the faces through the origin.
+  std::array<double, 3> lattice_offset{0.5, 0.5, 0.5};
   InitialVelocitySpec initial_velocity;
   MotionSpec motion;                         // walls; structures: their clamps
 };
 
 // An applied load. "edge" and "point": a total force shared equally by the body's particles inside
-// `region` ("point" takes the single particle nearest region.center). "body": an acceleration on
+// `region` ("point" takes the single particle nearest region.center). "traction": a force per unit
+// area on each particle inside `region`, times its cell's face dx^(D-1). "body": an acceleration on
 // every particle of the body. Loads ramp linearly from 0 to full over ramp_time (0 = at once).
 struct LoadSpec {
-  std::string type;                          // edge | point | body
+  std::string type;                          // edge | traction | point | body
   std::string body;
-  Shape region;                              // edge: region; point: region.center is used
+  Shape region;                              // edge, traction: region; point: region.center is used
   std::array<double, 3> force{};             // edge/point: total force [N per unit depth in 2D]
+  std::array<double, 3> traction{};          // traction: force per unit area of the loaded face [Pa]
   std::array<double, 3> acceleration{};      // body: [m/s^2]
   double ramp_time = 0.0;                    // [s]
 };

@@ -659,6 +659,13 @@ void read_fields(Table& t, BodySpec& b) {
     reject(t, "clamps", "only for kind = \"structure\" (" + kind_is + ")");
   b.lattice_origin = default_lattice_origin(b.shape, t.ctx().dimension);
   t.read("lattice_origin", b.lattice_origin);
+  if (t.read("lattice_offset", b.lattice_offset))
+    for (int k = 0; k < t.ctx().dimension; ++k)
+      if (!(b.lattice_offset[k] >= 0.0 && b.lattice_offset[k] < 1.0)) {
+        t.problem("lattice_offset", "every component must be in [0, 1), in units of dx (got " + show(b.lattice_offset[k]) +
+                                        " in component " + std::to_string(k) + ")");
+        break;
+      }
   if (wall) {
     reject(t, "initial_velocity", "not for kind = \"wall\" (use motion)");
   } else if (t.read("initial_velocity", b.initial_velocity) && b.kind == ParticleKind::fluid &&
@@ -674,7 +681,7 @@ void read_fields(Table& t, BodySpec& b) {
 }
 
 void read_fields(Table& t, LoadSpec& l) {
-  if (!read_choice(t, "type", l.type, {"edge", "point", "body"}, Need::required)) {
+  if (!read_choice(t, "type", l.type, {"edge", "traction", "point", "body"}, Need::required)) {
     t.ignore_rest();
     return;
   }
@@ -682,6 +689,9 @@ void read_fields(Table& t, LoadSpec& l) {
   if (l.type == "edge") {
     t.read("region", l.region, Need::required);
     t.read("force", l.force, Need::required);
+  } else if (l.type == "traction") {
+    t.read("region", l.region, Need::required);
+    t.read("traction", l.traction, Need::required);
   } else if (l.type == "point") {
     // A point load is given by `point`; it is kept as the centre of a "point" region.
     l.region.type = "point";
@@ -1054,6 +1064,7 @@ void write_body(std::ostream& out, const BodySpec& b, int dimension) {
   out << "shape = " << toml_shape(b.shape, dimension) << "\n";
   if (b.kind == ParticleKind::structure) out << "clamps = [" << join(clamps, ", ") << "]\n";
   out << "lattice_origin = " << toml_vector(b.lattice_origin, dimension) << "\n";
+  out << "lattice_offset = " << toml_vector(b.lattice_offset, dimension) << "\n";
   if (b.kind != ParticleKind::wall) out << "initial_velocity = " << toml_velocity(b.initial_velocity, dimension) << "\n";
   if (b.kind != ParticleKind::fluid) out << "motion = " << toml_motion(b.motion, dimension) << "\n";
 }
@@ -1062,10 +1073,12 @@ void write_load(std::ostream& out, const LoadSpec& l, int dimension) {
   out << "\n[[loads]]\n"
       << "type = " << quote(l.type) << "\n"
       << "body = " << quote(l.body) << "\n";
-  if (l.type == "edge") out << "region = " << toml_shape(l.region, dimension) << "\n";
+  if (l.type == "edge" || l.type == "traction") out << "region = " << toml_shape(l.region, dimension) << "\n";
   if (l.type == "point") out << "point = " << toml_vector(l.region.center, dimension) << "\n";
   if (l.type == "body")
     out << "acceleration = " << toml_vector(l.acceleration, dimension) << "\n";
+  else if (l.type == "traction")
+    out << "traction = " << toml_vector(l.traction, dimension) << "\n";
   else
     out << "force = " << toml_vector(l.force, dimension) << "\n";
   out << "ramp_time = " << toml_float(l.ramp_time) << "\n";

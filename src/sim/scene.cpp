@@ -25,9 +25,10 @@ void shape_bounds(const Shape& s, Vec<D>& lo, Vec<D>& hi) {
   }
 }
 
-// Lattice points origin + (i + 1/2) dx inside the shape.
+// Lattice points origin + (i + offset) dx inside the shape.
 template <int D>
-std::vector<Vec<D>> fill_lattice(const Shape& shape, const std::array<double, 3>& origin, Real dx) {
+std::vector<Vec<D>> fill_lattice(const Shape& shape, const std::array<double, 3>& origin,
+                                 const std::array<double, 3>& offset, Real dx) {
   Vec<D> lo, hi;
   shape_bounds<D>(shape, lo, hi);
   int first[D], count[D];
@@ -39,7 +40,7 @@ std::vector<Vec<D>> fill_lattice(const Shape& shape, const std::array<double, 3>
   int idx[D] = {};
   while (true) {
     Vec<D> p;
-    for (int d = 0; d < D; ++d) p[d] = origin[d] + (first[d] + idx[d] + 0.5) * dx;
+    for (int d = 0; d < D; ++d) p[d] = origin[d] + (first[d] + idx[d] + offset[d]) * dx;
     if (shape.contains(to_array(p), D)) points.push_back(p);
     int d = 0;
     while (d < D && ++idx[d] >= count[d]) {
@@ -427,7 +428,7 @@ Scene<D> build_scene(const CaseSpec& spec) {
   for (std::size_t bi = 0; bi < spec.bodies.size(); ++bi) {
     const BodySpec& body = spec.bodies[bi];
     const std::string key = "bodies[" + std::to_string(bi) + "]";
-    const auto points = fill_lattice<D>(body.shape, body.lattice_origin, dx);
+    const auto points = fill_lattice<D>(body.shape, body.lattice_origin, body.lattice_offset, dx);
     if (points.empty()) {
       problems.push_back(file + ": " + key + ".shape: no particles at dx = " + std::to_string(dx) +
                          " (the shape is smaller than the particle spacing)");
@@ -504,11 +505,11 @@ Scene<D> build_scene(const CaseSpec& spec) {
       }
       if (targets.empty())
         problems.push_back(file + ": " + key + ".region: no free particle of body '" + load.body + "' is loaded");
-      // A total force F shared by the loaded particles: a_i = F / (n m_i).
-      for (Index a : targets) {
-        const Real m = s.materials[s.material[a]].density * s.volume[a];
-        field.acc[a] = (1.0 / (static_cast<Real>(targets.size()) * m)) * to_vec<D>(load.force);
-      }
+      // A total force F shared by the loaded particles, f_i = F / n; or a traction t on each particle's
+      // cell face, f_i = t dx^(D-1). Then a_i = f_i / m_i.
+      const Vec<D> force = load.type == "traction" ? std::pow(dx, D - 1) * to_vec<D>(load.traction)
+                                                   : (1.0 / static_cast<Real>(targets.size())) * to_vec<D>(load.force);
+      for (Index a : targets) field.acc[a] = (1.0 / (s.materials[s.material[a]].density * s.volume[a])) * force;
     }
     s.loads.push_back(std::move(field));
   }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "io/case_loader.hpp"
+#include "sim/scene.hpp"
 
 namespace isph {
 namespace {
@@ -189,6 +190,69 @@ initial_velocity = { type = "cantilever_mode", tip_velocity = 0.1, length = 1, a
   EXPECT_EQ(v.type, "cantilever_mode");
   EXPECT_DOUBLE_EQ(v.kL, 1.875);
   EXPECT_EQ(v.axis, (std::array<double, 3>{1, 0, 0}));  // normalized
+}
+
+// lattice_offset = 0 on an axis puts particle columns on the faces through the origin: on the clamp's
+// face at x = 0 and on the loaded end at x = 1; 1/2 (the default) centres them in their cells.
+TEST_F(CaseLoaderTest, LatticeOffsetPlacesParticleRowsOnTheFaces) {
+  const CaseSpec cell = load_case(write("cell.toml", kBeam));
+  EXPECT_EQ(cell.bodies[0].lattice_offset, (std::array<double, 3>{0.5, 0.5, 0.5}));
+  std::string text = kBeam;
+  text.replace(text.find("clamps ="), 0, "lattice_offset = [0.0, 0.5]\n");
+  const CaseSpec node = load_case(write("node.toml", text));
+  const auto columns = [](const CaseSpec& spec, bool clamped_only) {
+    const Scene<2> scene = build_scene<2>(spec);
+    std::vector<double> x;
+    for (std::size_t a = 0; a < scene.structure.X.size(); ++a)
+      if (!clamped_only || scene.structure.fixed[a]) x.push_back(scene.structure.X[a][0]);
+    std::sort(x.begin(), x.end());
+    x.erase(std::unique(x.begin(), x.end(), [](double p, double q) { return std::abs(p - q) < 1e-9; }), x.end());
+    return x;
+  };
+  const auto all_cell = columns(cell, false), all_node = columns(node, false);
+  ASSERT_EQ(all_cell.size(), 100u);
+  EXPECT_NEAR(all_cell.front(), 0.005, 1e-12);
+  EXPECT_NEAR(all_cell.back(), 0.995, 1e-12);
+  ASSERT_EQ(all_node.size(), 101u);
+  EXPECT_NEAR(all_node.front(), 0.0, 1e-12);
+  EXPECT_NEAR(all_node.back(), 1.0, 1e-12);
+  const auto clamped = columns(node, true);  // the clamp [0, 0.05] holds the columns on both its faces
+  ASSERT_EQ(clamped.size(), 6u);
+  EXPECT_NEAR(clamped.back(), 0.05, 1e-12);
+
+  text = kBeam;
+  text.replace(text.find("clamps ="), 0, "lattice_offset = [1.0, 0.5]\n");
+  const auto path = write("offset.toml", text);
+  EXPECT_TRUE(reports(problems(path),
+                      path + ": bodies[0].lattice_offset: every component must be in [0, 1), in units of dx (got 1 in component 0)"));
+}
+
+// A traction load gives each loaded free particle traction * dx^(D-1): along the beam's top face, the
+// 95 free particles of the top row carry 1000 Pa * 0.01 m each; the 5 clamped ones carry nothing.
+TEST_F(CaseLoaderTest, TractionLoadsEachCellFace) {
+  std::string text = kBeam;
+  const auto first = text.find("[[loads]]"), last = text.find("[[probes]]");
+  text.replace(first, last - first,
+               "[[loads]]\ntype = \"traction\"\nbody = \"beam\"\n"
+               "region = { type = \"rectangle\", min = [0, 0.099], max = [1, 0.1] }\ntraction = [0, -1000]\n\n");
+  const CaseSpec spec = load_case(write("traction.toml", text));
+  const Scene<2> scene = build_scene<2>(spec);
+  const auto& s = scene.structure;
+  ASSERT_EQ(s.loads.size(), 1u);
+  int loaded = 0;
+  Vec<2> total = Vec<2>::zero();
+  for (std::size_t a = 0; a < s.X.size(); ++a) {
+    const Vec<2> f = (7800 * s.volume[a]) * s.loads[0].acc[a];
+    if (norm2(f) == 0) continue;
+    ++loaded;
+    EXPECT_NEAR(s.X[a][1], 0.095, 1e-12);
+    EXPECT_FALSE(s.fixed[a]);
+    EXPECT_NEAR(f[1], -10.0, 1e-9);
+    total += f;
+  }
+  EXPECT_EQ(loaded, 95);
+  EXPECT_NEAR(total[1], -950.0, 1e-7);
+  EXPECT_NEAR(total[0], 0.0, 1e-12);
 }
 
 TEST_F(CaseLoaderTest, UnknownKeysAtEveryLevel) {
