@@ -24,7 +24,7 @@ G = 9.81
 PLATE = dict(L=1.0, T=0.05, H=2.0, rho_w=1000.0, rho_s=2700.0, E=67.5e9, nu=0.34)
 PLATE_STATIC = (12 * G * (1 - PLATE["nu"] ** 2) * (PLATE["rho_w"] * PLATE["H"] + PLATE["rho_s"] * PLATE["T"]) *
                 PLATE["L"] ** 4 / (384 * PLATE["E"] * PLATE["T"] ** 3))
-PLATE_RUNS = (("plate_T4", 4), ("plate_T8", 8), ("plate_T12", 12))  # (folder, T/dx)
+PLATE_RUNS = (("plate_T4", 4), ("plate_T8", 8), ("plate_T10", 10), ("plate_T12", 12))  # (folder, T/dx)
 PLATE_MEAN_FROM = 0.1  # [s] the seed's averaging window starts here
 # Elastic gate (Antoci et al. 2007): reference tip displacement histories.
 GATE_REFS = (("khayyer_2018_isph_sph", "Khayyer et al. 2018, ISPH-SPH", "o"),
