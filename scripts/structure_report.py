@@ -27,7 +27,7 @@ CANTILEVER_L = 0.1
 ELASTICA_V, ELASTICA_H = 0.30172 * CANTILEVER_L, 0.05643 * CANTILEVER_L
 LINEAR_V = 0.3359e-3
 # The same cantilever as a 2D plane-stress St. Venant-Kirchhoff continuum, clamped over its end face
-# (scripts/fe_cantilever.py, Q9 elements, 80 x 8): what the particle solution should converge to.
+# (scripts/fe_beam.py cantilever, Q9 elements, 80 x 8): what the particle solution should converge to.
 FE_V, FE_H = 30.386e-3, 5.7145e-3
 FE_LINEAR_V = 0.33529e-3
 PLATE_OMEGA = 24.72
