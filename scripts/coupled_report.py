@@ -332,8 +332,8 @@ def sloshing(args):
           f"(energies minus that work) changes by {fmt(e['total'][-1] - e['total'][0], 3)} J/m.\n")
 
 
-STABILITY_VARIANTS = (("reference", "defaults (FSI layer, substeps from the stability limit, RK4, iterations)"),
-                      ("fsi_off", "FSI shifting layer off"),
+STABILITY_VARIANTS = (("reference", "the case's defaults (no FSI layer, substeps from the stability limit, RK4, iterations)"),
+                      ("fsi_on", "FSI shifting layer on"),
                       ("seed_ratio", "100 substeps per fluid step (the seed's ratio)"),
                       ("large_step", "1 substep per fluid step (beyond the structure's limit)"),
                       ("verlet", "velocity-Verlet structure integrator"),

@@ -3,9 +3,9 @@
 # its own resolution (T/dx = 4) to t = 0.06 s, while the gate opens (about 15 minutes per run on one
 # core; at T/dx = 2 even the defaults fail within 0.025 s: fluid goes through a gate two particles
 # thick; END_TIME and DX override), with
-#   reference   the defaults: FSI shifting layer, substeps from the structure's stability limit, RK4,
-#               interface iterations;
-#   fsi_off     the FSI shifting layer off;
+#   reference   the case's defaults: no FSI shifting layer (docs/VALIDATION.md section 14), substeps from
+#               the structure's stability limit, RK4, interface iterations;
+#   fsi_on      the FSI shifting layer on (the default of the case before 2026-12-01);
 #   seed_ratio  100 structure substeps per fluid step (the seed's fixed ratio);
 #   large_step  1 substep per fluid step (the structure stepped at the fluid's step, beyond its limit);
 #   verlet      the second-order structure integrator (velocity-Verlet) instead of RK4;
@@ -30,6 +30,6 @@ run() {  # run NAME [--set ...]
 run large_step --set coupling.substeps=1
 run staggered --set coupling.max_iterations=1
 run reference
-run fsi_off --set coupling.fsi_shifting=false
+run fsi_on --set coupling.fsi_shifting=true
 run verlet --set structure.integrator=verlet
 run seed_ratio --set coupling.substeps=100
