@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "poisson/linear_solver.hpp"  // hypre_available
+
 namespace isph {
 
 // A geometric primitive. In 2D: "rectangle" (min, max) or "circle" (center, radius).
@@ -139,15 +141,20 @@ struct StructureSpec {
   double hourglass = 5.0;                    // hourglass control coefficient alpha (0 = off); docs/VALIDATION.md
 };
 
-// The PPE linear solver (poisson/linear_solver.hpp) and what to do when it fails.
+// The PPE linear solver (poisson/linear_solver.hpp) and what to do when it fails. The default is
+// BoomerAMG where the build has hypre (3-4 times faster per solve than Eigen's ILUT on the bundled
+// cases, docs/PERFORMANCE.md) with Eigen as its fallback, and Eigen's ILUT otherwise. A case that names
+// a backend gets no fallback unless it names one too.
 struct PpeSolverSpec {
-  std::string backend = "eigen";             // eigen | hypre | native | cuda
+  std::string backend = hypre_available() ? "hypre" : "eigen";  // eigen | hypre | native | cuda
   std::string method = "bicgstab";           // bicgstab | gmres (gmres: eigen and hypre only)
-  std::string preconditioner = "ilu";        // eigen: jacobi | ilu | none; hypre: boomeramg | jacobi | none;
+  std::string preconditioner = hypre_available() ? "boomeramg" : "ilu";
+                                             // eigen: jacobi | ilu | none; hypre: boomeramg | jacobi | none;
                                              // native, cuda: jacobi | polynomial | none
   double tolerance = 1e-8;                   // relative residual
   int max_iterations = 1000;
-  std::string fallback = "none";             // none | eigen | hypre: a second backend tried after a failed solve
+  std::string fallback = hypre_available() ? "eigen" : "none";  // none | eigen | hypre: a second backend
+                                                                // tried after a failed solve
 };
 
 struct ShiftingSpec {

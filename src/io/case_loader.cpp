@@ -445,6 +445,7 @@ void read_fields(Table& t, PpeSolverSpec& p) {
   if (t.read("tolerance", p.tolerance) && !(p.tolerance > 0.0 && p.tolerance < 1.0))
     t.problem("tolerance", "must be > 0 and < 1 (got " + show(p.tolerance) + ")");
   read_positive_int(t, "max_iterations", p.max_iterations);
+  if (t.has("backend") && !t.has("fallback")) p.fallback = "none";  // case.hpp: the default pair is kept whole
   if (read_choice(t, "fallback", p.fallback, {"none", "eigen", "hypre"}) && backend_ok &&
       p.fallback == p.backend)
     t.problem("fallback", "must differ from backend (both " + quote(p.backend) + "), or be \"none\"");

@@ -187,6 +187,9 @@ void IsphSolver<D>::solve_pressure(FluidStepReport& report, PhaseTimer& timer) {
       report.ppe_solver = fallback_->name();
       if (!report.ppe.converged) report.ppe.iterations += first.iterations;
     }
+    ++report.ppe_solves;
+    report.ppe_iterations += report.ppe.iterations;
+    report.ppe_max_iterations = std::max(report.ppe_max_iterations, report.ppe.iterations);
     report.ppe_failed = !report.ppe.converged;
     if (!report.ppe_failed) p_.swap(p_trial_);
   });

@@ -297,7 +297,7 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& s
 
   const double t_struct = timer.get("structure");
   JsonObject ppe;
-  ppe.set("solver", "none").set("mean_iterations", 0.0).set("max_iterations", 0LL).set("failures", 0LL);
+  ppe.set("solver", "none").set("solves", 0LL).set("mean_iterations", 0.0).set("max_iterations", 0LL).set("failures", 0LL);
   JsonObject perf;
   perf.set("threads", static_cast<long long>(omp_get_max_threads()))
       .set("structure_dt", dt)
@@ -421,7 +421,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
 
   record(0);
   if (frame.writes_snapshots()) snapshot(0);
-  long long step = 0, iterations = 0, max_iterations = 0, failures = 0, removed_total = 0;
+  long long step = 0, solves = 0, iterations = 0, max_iterations = 0, failures = 0, removed_total = 0;
   const Index initial_fluid = solver.fluid_count();
   double worst_residual = 0;
   Real t = 0, first_dt = 0, first_removal = 0;
@@ -446,9 +446,10 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
     t += dt;
     if (solver.wall_count() > 0)
       timer.time("contact", [&] { wall_contact.add(solver.contact(FluidKind::wall), t); });
-    iterations += report.ppe.iterations;
+    solves += report.ppe_solves;
+    iterations += report.ppe_iterations;
     worst_residual = std::max(worst_residual, report.ppe.relative_residual);
-    max_iterations = std::max<long long>(max_iterations, report.ppe.iterations);
+    max_iterations = std::max<long long>(max_iterations, report.ppe_max_iterations);
     char buf[512];
     // A structure that ran away inside the step's substeps poisons the PPE's right-hand side: name it first.
     const Index bad_s = coupling ? find_divergence(coupling->solver(), 10 * scene.body_extent) : -1;
@@ -505,7 +506,8 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   const double stepping = timer.total() - timer.get("output") - timer.get("setup");
   JsonObject ppe;
   ppe.set("solver", isph ? isph->ppe_solver_name() : "none")
-      .set("mean_iterations", step > 0 ? double(iterations) / step : 0.0)
+      .set("solves", solves)
+      .set("mean_iterations", solves > 0 ? double(iterations) / solves : 0.0)
       .set("max_iterations", max_iterations)
       .set("max_relative_residual", worst_residual)
       .set("failures", failures);

@@ -491,7 +491,8 @@ ramp_time = 0.1
 }
 
 TEST_F(CaseLoaderTest, FluidCaseLoadsWithDefaults) {
-  const CaseSpec c = load_case(write("dam_break.toml", kDamBreak));
+  const std::string path = write("dam_break.toml", kDamBreak);
+  const CaseSpec c = load_case(path);
   EXPECT_TRUE(c.stages.fluid);
   EXPECT_FALSE(c.stages.structure);  // no structure bodies: the structure stage does not run
 
@@ -529,12 +530,17 @@ TEST_F(CaseLoaderTest, FluidCaseLoadsWithDefaults) {
   EXPECT_DOUBLE_EQ(f.shifting.coefficient, 0.05);
   EXPECT_DOUBLE_EQ(f.shifting.max_fraction, 0.2);
   EXPECT_TRUE(f.shifting.taylor_correction);
-  EXPECT_EQ(f.ppe.backend, "eigen");
+  // BoomerAMG with Eigen behind it where the build has hypre; Eigen's ILUT alone otherwise.
+  EXPECT_EQ(f.ppe.backend, hypre_available() ? "hypre" : "eigen");
   EXPECT_EQ(f.ppe.method, "bicgstab");
-  EXPECT_EQ(f.ppe.preconditioner, "ilu");
+  EXPECT_EQ(f.ppe.preconditioner, hypre_available() ? "boomeramg" : "ilu");
   EXPECT_DOUBLE_EQ(f.ppe.tolerance, 1e-8);
   EXPECT_EQ(f.ppe.max_iterations, 1000);
-  EXPECT_EQ(f.ppe.fallback, "none");
+  EXPECT_EQ(f.ppe.fallback, hypre_available() ? "eigen" : "none");
+  // Naming a backend drops the default fallback (eigen would otherwise fall back on itself).
+  const CaseSpec named = load_case(path, {"fluid.ppe.backend=eigen"});
+  EXPECT_EQ(named.fluid.ppe.preconditioner, "ilu");
+  EXPECT_EQ(named.fluid.ppe.fallback, "none");
 
   for (int k = 0; k < 3; ++k) EXPECT_FALSE(c.periodic.axis[k]);
 }

@@ -253,8 +253,14 @@ TEST(PpeAssembly, MatchesDenseAssembly) {
         dense[a][b] -= w;
         dense_rhs[a] += w * density * dot(gravity, r);
       }
-      dense[a][a] = sum > 0 ? sum : 1.0;
-      if (!(sum > 0)) dense_rhs[a] = 0;
+      // The row over its diagonal: p_w - sum_f (W_wf / sum W) p_f = (g - a_w) . sum_f W_wf r_wf / sum W.
+      if (sum > 0) {
+        for (Index b = 0; b < n; ++b) dense[a][b] /= sum;
+        dense_rhs[a] /= sum;
+      } else {
+        dense_rhs[a] = 0;
+      }
+      dense[a][a] = 1.0;
       continue;
     }
     double diag = 0;
