@@ -40,7 +40,8 @@ struct Scene {
   Vec<D> domain_lo, domain_hi;       // fluid: a particle leaving this box has escaped
   Vec<D> up = Vec<D>::zero();        // against gravity (unit; zero without gravity)
   Real rim = 0;                      // the highest corner, along `up`, of the box of the set-up's particles and
-                                     // walls' paths: an escaped particle above it was thrown out over the walls
+                                     // walls' paths, less 2h: an escaped particle above it was thrown out over
+                                     // the walls
 };
 
 // Fills every body on its lattice, applies clamps, initial velocities and loads, and places the
