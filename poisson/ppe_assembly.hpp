@@ -28,7 +28,8 @@
 //   sum_f W_wf (p_w - p_f) = rho sum_f W_wf (g - a_w) · (r_w - r_f),
 // divided by sum_f W_wf, so that its diagonal is 1 like the fluid rows' (each divided by its own
 // diagonal). BoomerAMG needs the rows on one scale: with the wall rows left at W / rho it diverged on
-// the elastic gate's first step, and on the plate it took 6.1 iterations per solve instead of 4.8.
+// the elastic gate's first step, and on the plate it took 6.1 iterations instead of 4.8 (each step's
+// last solve).
 // The row imposes the pressure gradient rho (g - a_w) of the momentum equation at a wall (exactly for
 // a hydrostatic field), so fluid is kept out of the wall by the projection. The extrapolation
 // assumes fluid between the wall and its neighbours: a wall particle whose fluid neighbours are all
