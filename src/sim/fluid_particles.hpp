@@ -98,7 +98,7 @@ class ContactRecord {
 struct FluidStepReport {
   SolveReport ppe;                 // the step's last PPE solve
   int ppe_solves = 0;              // PPE solves in the step (the coupling's interface iterations repeat it)
-  long long ppe_iterations = 0;    // Krylov iterations over all of them
+  long long ppe_iterations = 0;    // Krylov iterations over all of them (a fallback's included)
   int ppe_max_iterations = 0;      // the most any one of them took
   std::string ppe_solver;  // the backend that produced the pressure ("none" for a weakly compressible fluid)
   bool ppe_failed = false; // no backend converged

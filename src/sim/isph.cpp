@@ -180,16 +180,17 @@ void IsphSolver<D>::solve_pressure(FluidStepReport& report, PhaseTimer& timer) {
     report.ppe = solver_->solve(matrix_, rhs_, p_trial_, solves_since_assembly_ > 0);
     ++solves_since_assembly_;
     report.ppe_solver = solver_->name();
+    int iterations = report.ppe.iterations;  // of this solve, the fallback's included
     if (!report.ppe.converged && fallback_) {
       p_trial_ = p_;
-      const SolveReport first = report.ppe;
       report.ppe = fallback_->solve(matrix_, rhs_, p_trial_);
       report.ppe_solver = fallback_->name();
-      if (!report.ppe.converged) report.ppe.iterations += first.iterations;
+      iterations += report.ppe.iterations;
+      if (!report.ppe.converged) report.ppe.iterations = iterations;
     }
     ++report.ppe_solves;
-    report.ppe_iterations += report.ppe.iterations;
-    report.ppe_max_iterations = std::max(report.ppe_max_iterations, report.ppe.iterations);
+    report.ppe_iterations += iterations;
+    report.ppe_max_iterations = std::max(report.ppe_max_iterations, iterations);
     report.ppe_failed = !report.ppe.converged;
     if (!report.ppe_failed) p_.swap(p_trial_);
   });
