@@ -45,6 +45,22 @@ cusparseSpMVAlg_t spmv_algorithm(SpmvAlgorithm a) {
 class CudaOps {
  public:
   using Vector = DeviceArray<double>;
+  template <class T>
+  using Array = DeviceArray<T>;
+  template <class T>
+  Array<T> array(std::size_t n) const {
+    return Array<T>(n);
+  }
+  template <class T>
+  std::vector<T> to_host(const T* p, std::size_t n) const {
+    std::vector<T> h(n);
+    copy_device_to_host(h.data(), p, n * sizeof(T));
+    return h;
+  }
+  template <class T>
+  Array<T> from_host(const std::vector<T>& v) const {
+    return Array<T>(v);
+  }
 
   explicit CudaOps(SpmvAlgorithm algorithm = SpmvAlgorithm::reproducible) : algorithm_(spmv_algorithm(algorithm)) {
     check(cusparseCreate(&sparse_), "create");

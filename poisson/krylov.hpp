@@ -18,6 +18,10 @@
 //   void spmv(const Vector& x, Vector& y);      // y = A x
 //   double dot(const Vector& x, const Vector& y);
 //   void release();                             // done with the copy of A
+//   template <class T> using Array;             // typed arrays in the backend's memory (the AMG's levels)
+//   template <class T> Array<T> array(std::size_t n);
+//   template <class T> std::vector<T> to_host(const T* p, std::size_t n);   // n entries from p
+//   template <class T> Array<T> from_host(const std::vector<T>&);
 #pragma once
 
 #include <cmath>
@@ -27,62 +31,11 @@
 #include <vector>
 
 #include "core/parallel.hpp"
+#include "poisson/aggregation_amg.hpp"
 #include "poisson/linear_solver.hpp"
+#include "poisson/sparse_functors.hpp"
 
 namespace isph {
-
-// y = a (d ⊙ x) + b y, with d = 1 when d is null; b = 0 overwrites y (which may hold NaN).
-struct ScaledAxpby {
-  double a, b;
-  const double* d;
-  const double* x;
-  double* y;
-  ISPH_HD void operator()(Index i) const {
-    const double dx = d ? d[i] * x[i] : x[i];
-    y[i] = b == 0 ? a * dx : a * dx + b * y[i];
-  }
-};
-
-// y_i = sum_k A_ik x_k over row i of a CSR matrix (the host SpMV).
-struct CsrRowProduct {
-  const int* row_offset;
-  const int* col;
-  const double* val;
-  const double* x;
-  double* y;
-  ISPH_HD void operator()(Index i) const {
-    double s = 0;
-    for (int k = row_offset[i]; k < row_offset[i + 1]; ++k) s += val[k] * x[col[k]];
-    y[i] = s;
-  }
-};
-
-// A CSR matrix as pointers, in whichever memory holds it.
-struct CsrView {
-  int rows = 0;
-  const int* row_offset = nullptr;
-  const int* col = nullptr;
-  const double* val = nullptr;
-};
-
-// dinv_i = 1 / A_ii, or 0 where row i has no (or a zero) diagonal entry.
-struct InverseDiagonal {
-  CsrView A;
-  double* dinv;
-  ISPH_HD void operator()(Index i) const {
-    double diag = 0;
-    for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k)
-      if (A.col[k] == i) diag = A.val[k];
-    dinv[i] = diag != 0 ? 1.0 / diag : 0.0;
-  }
-};
-
-// i where dinv_i = 0, else the largest Index (its minimum is the first row without a diagonal).
-struct RowWithoutDiagonal {
-  const double* dinv;
-  ISPH_HD Index operator()(Index i) const { return dinv[i] == 0 ? i : kNoRow; }
-  static constexpr Index kNoRow = 0x7fffffff;
-};
 
 // The polynomial preconditioner: kPolynomialSweeps damped-Jacobi sweeps from z = 0,
 //   z_0 = ω D⁻¹ r,  z_{k+1} = z_k + ω D⁻¹ (r − A z_k),
@@ -99,7 +52,7 @@ template <class Ops>
 class Bicgstab {
  public:
   using Vector = typename Ops::Vector;
-  enum class Preconditioner { none, jacobi, polynomial };
+  enum class Preconditioner { none, jacobi, polynomial, amg };
 
   Bicgstab(Ops& ops, int n)
       : ops_(ops), n_(n), dinv_(ops.vector(n)), r_(ops.vector(n)), rhat_(ops.vector(n)), p_(ops.vector(n)),
@@ -113,6 +66,10 @@ class Bicgstab {
     m_ = m;
     if (m == Preconditioner::none) return "";
     const CsrView A = ops_.matrix();
+    if (m == Preconditioner::amg) {
+      if (!amg_) amg_.emplace(ops_);
+      return amg_->setup(A);
+    }
     parallel_for(ops_.exec(), n_, InverseDiagonal{A, Ops::data(dinv_)});
     const Index bad = parallel_reduce(ops_.exec(), n_, RowWithoutDiagonal::kNoRow,
                                       RowWithoutDiagonal{Ops::data(dinv_)}, MinOf{});
@@ -213,12 +170,16 @@ class Bicgstab {
           scaled_axpby(kPolynomialDamping, &dinv_, work_, 1, z);
         }
         return;
+      case Preconditioner::amg:
+        amg_->apply(Ops::data(r), Ops::data(z));
+        return;
     }
   }
 
   Ops& ops_;
   int n_;
   Preconditioner m_ = Preconditioner::none;
+  std::optional<AggregationAmg<Ops>> amg_;
   Vector dinv_, r_, rhat_, p_, v_, s_, t_, phat_, shat_, work_;
 };
 
@@ -236,6 +197,7 @@ class OwnKrylovSolver final : public KrylovSolverFrame {
     using P = typename Bicgstab<Ops>::Preconditioner;
     const P m = settings_.preconditioner == "jacobi"       ? P::jacobi
                 : settings_.preconditioner == "polynomial" ? P::polynomial
+                : settings_.preconditioner == "amg"        ? P::amg
                                                            : P::none;
     ops_.set_matrix(A);
     if (!krylov_ || krylov_->size() != A.rows) {  // work vectors only when the size changes

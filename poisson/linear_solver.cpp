@@ -102,7 +102,7 @@ const std::vector<std::string>& solver_methods(const std::string& backend) {
 
 const std::vector<std::string>& solver_preconditioners(const std::string& backend) {
   static const std::vector<std::string> eigen{"ilu", "jacobi", "none"}, hypre{"boomeramg", "jacobi", "none"},
-      own{"jacobi", "polynomial", "none"}, none;
+      own{"jacobi", "polynomial", "amg", "none"}, none;
   if (backend == "eigen") return eigen;
   if (backend == "hypre") return hypre;
   if (backend == "native" || backend == "cuda") return own;

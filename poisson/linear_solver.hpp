@@ -5,7 +5,7 @@
 //   hypre : hypre ParCSR BiCGSTAB or GMRES, preconditioned by one BoomerAMG V-cycle, Jacobi or
 //           nothing (only when the build found hypre + MPI: ISPH_HAVE_HYPRE).
 //   native: the project's BiCGSTAB (poisson/krylov.hpp) on the host, preconditioned by Jacobi, a
-//           Jacobi polynomial or nothing.
+//           Jacobi polynomial, smoothed-aggregation AMG (poisson/aggregation_amg.hpp) or nothing.
 //   cuda  : the same BiCGSTAB on the GPU: cuSPARSE SpMV, cuBLAS dot products (only in builds with the
 //           CUDA backend, and only when a device is visible).
 // Every backend reports the TRUE relative residual ||b - A x|| / ||b||, recomputed from the CSR
@@ -37,7 +37,7 @@ struct SolverSettings {
   std::string backend = "eigen";       // eigen | hypre | native | cuda
   std::string method = "bicgstab";     // bicgstab | gmres (eigen, hypre); bicgstab (native, cuda)
   std::string preconditioner = "ilu";  // eigen: jacobi | ilu | none ; hypre: boomeramg | jacobi | none ;
-                                       // native, cuda: jacobi | polynomial | none
+                                       // native, cuda: jacobi | polynomial | amg | none
   double tolerance = 1e-8;             // relative residual ||b - Ax|| / ||b||
   int max_iterations = 1000;           // Krylov iterations in total (over restarts and refinement passes)
   int gmres_restart = 50;              // Krylov subspace dimension of GMRES

@@ -3,10 +3,13 @@
 //   ISPH_HD void operator()(Index i) const;
 // that reads neighbours and writes only particle i. parallel_for runs it with OpenMP on the host,
 // or as a CUDA kernel when the calling translation unit is compiled by nvcc and the device is cuda.
-// Beside it, the two collective primitives the time step needs: a reduction and a prefix sum.
+// Beside it, the collective primitives the time step and the AMG set-up need: a reduction, a prefix
+// sum and a stable sort by key.
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
+#include <vector>
 
 #include "core/types.hpp"
 
@@ -15,6 +18,7 @@
 #include <thrust/execution_policy.h>
 #include <thrust/iterator/counting_iterator.h>
 #include <thrust/scan.h>
+#include <thrust/sort.h>
 #include <thrust/transform_reduce.h>
 #endif
 
@@ -126,6 +130,29 @@ inline void inclusive_scan(const Exec& exec, Index* v, Index n) {
 #endif
   }
   for (Index i = 1; i < n; ++i) v[i] += v[i - 1];
+}
+
+// Reorders values by their keys, which lie in [0, key_bound), keeping the order of equal keys; the keys
+// end up sorted too. A counting sort on the host, thrust's stable sort on the device.
+inline void stable_sort_by_key(const Exec& exec, Index* keys, Index* values, Index n, Index key_bound) {
+  if (exec.device == Device::cuda) {
+#if defined(__CUDACC__)
+    thrust::stable_sort_by_key(thrust::device, keys, keys + n, values);
+    return;
+#else
+    not_compiled_for_cuda("stable_sort_by_key");
+#endif
+  }
+  std::vector<Index> next(static_cast<std::size_t>(key_bound) + 1, 0), sorted_keys(n), sorted_values(n);
+  for (Index i = 0; i < n; ++i) ++next[keys[i] + 1];
+  for (Index k = 0; k < key_bound; ++k) next[k + 1] += next[k];  // next[k]: where key k's first entry goes
+  for (Index i = 0; i < n; ++i) {
+    const Index to = next[keys[i]]++;
+    sorted_keys[to] = keys[i];
+    sorted_values[to] = values[i];
+  }
+  std::copy(sorted_keys.begin(), sorted_keys.end(), keys);
+  std::copy(sorted_values.begin(), sorted_values.end(), values);
 }
 
 }  // namespace isph

@@ -917,16 +917,16 @@ fallback = "eigen"
             std::vector<std::string>{path + ": fluid.ppe.preconditioner: \"ilu\" is not available with "
                                             "backend = \"hypre\"; must be one of \"boomeramg\", \"jacobi\", "
                                             "\"none\""});
-  p = problems(path, {"fluid.ppe.preconditioner=amg"});
+  p = problems(path, {"fluid.ppe.preconditioner=sor"});
   EXPECT_TRUE(reports(p, path + ": fluid.ppe.preconditioner: must be one of \"ilu\", \"jacobi\", \"none\", "
-                                "\"boomeramg\", \"polynomial\" (got \"amg\")"));
+                                "\"boomeramg\", \"polynomial\", \"amg\" (got \"sor\")"));
 
   // The project's own BiCGSTAB (native on the host, cuda on the GPU): its preconditioners, no GMRES.
   p = problems(path, {"fluid.ppe.backend=cuda", "fluid.ppe.method=gmres", "fluid.ppe.preconditioner=ilu"});
   EXPECT_TRUE(reports(p, path + ": fluid.ppe.method: \"gmres\" is not available with backend = \"cuda\"; must be "
                                 "one of \"bicgstab\""));
   EXPECT_TRUE(reports(p, path + ": fluid.ppe.preconditioner: \"ilu\" is not available with backend = \"cuda\"; "
-                                "must be one of \"jacobi\", \"polynomial\", \"none\""));
+                                "must be one of \"jacobi\", \"polynomial\", \"amg\", \"none\""));
   EXPECT_EQ(p.size(), 2u);
   const CaseSpec native = load_case(path, {"fluid.ppe.backend=native", "fluid.ppe.preconditioner=polynomial"});
   EXPECT_EQ(native.fluid.ppe.preconditioner, "polynomial");

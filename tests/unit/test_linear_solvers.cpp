@@ -182,7 +182,7 @@ TEST(LinearSolverFactory, OwnKrylovBackendsOfferBicgstabWithTheirPreconditioners
   auto msg = expect_invalid(settings("native", "gmres", "jacobi"));
   EXPECT_NE(msg.find("method 'gmres' for backend 'native'"), std::string::npos) << msg;
   msg = expect_invalid(settings("native", "bicgstab", "ilu"));
-  EXPECT_NE(msg.find("jacobi, polynomial, none"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("jacobi, polynomial, amg, none"), std::string::npos) << msg;
   msg = expect_invalid(settings("cuda", "bicgstab", "boomeramg"));
   EXPECT_NE(msg.find("preconditioner 'boomeramg' for backend 'cuda'"), std::string::npos) << msg;
 }
@@ -394,13 +394,14 @@ TEST(LinearSolver, ZeroRowIsReportedNotConverged) {
 }
 
 // The own-Krylov backends take D⁻¹ where their copy of the matrix is: a row whose diagonal entry is
-// zero makes the Jacobi scalings (jacobi, polynomial) fail at set-up, naming the first such row.
+// zero makes the Jacobi scalings (jacobi, polynomial, and the AMG's smoother) fail at set-up, naming
+// the first such row.
 TEST(LinearSolver, ZeroDiagonalNamesTheRowForTheJacobiScalings) {
   auto m = manufactured(10);
   for (int row : {77, 23})
     for (int k = m.A.row_offset[row]; k < m.A.row_offset[row + 1]; ++k)
       if (m.A.col[k] == row) m.A.val[k] = 0.0;
-  for (const char* p : {"jacobi", "polynomial"}) {
+  for (const char* p : {"jacobi", "polynomial", "amg"}) {
     std::vector<double> x(m.b.size(), 0.0);
     const SolveReport r = make_linear_solver(settings("native", "bicgstab", p))->solve(m.A, m.b, x);
     EXPECT_FALSE(r.converged) << p;

@@ -51,3 +51,21 @@ TEST(Parallel, InclusiveScanGivesRowEnds) {
   inclusive_scan(Exec{}, ends.data(), 0);  // an empty range is left alone
   EXPECT_EQ(ends[0], 3);
 }
+
+// The stable sort by key: keys come out sorted, and values with equal keys keep their order (the AMG's
+// transpose relies on it for columns in increasing order within each transposed row).
+TEST(Parallel, StableSortByKeyKeepsTheOrderOfEqualKeys) {
+  std::mt19937 rng(20261201);
+  std::uniform_int_distribution<Index> key(0, 6);
+  const Index n = 1000;
+  std::vector<Index> keys(n), values(n);
+  for (Index i = 0; i < n; ++i) keys[i] = key(rng), values[i] = i;
+  const std::vector<Index> original = keys;
+  stable_sort_by_key(Exec{}, keys.data(), values.data(), n, 7);
+  EXPECT_TRUE(std::is_sorted(keys.begin(), keys.end()));
+  for (Index q = 0; q < n; ++q) {
+    EXPECT_EQ(original[values[q]], keys[q]) << q;
+    if (q > 0 && keys[q] == keys[q - 1]) EXPECT_LT(values[q - 1], values[q]) << q;
+  }
+  stable_sort_by_key(Exec{}, keys.data(), values.data(), 0, 7);  // an empty range is left alone
+}

@@ -1,0 +1,620 @@
+#pragma once
+// Smoothed-aggregation algebraic multigrid (Vaněk, Mandel & Brezina 1996, Computing 56:179) as the
+// preconditioner "amg" of the project's BiCGSTAB (poisson/krylov.hpp), on the host and on the device.
+// Every step of the set-up and of the cycle is a launcher loop that writes only its own row, or a
+// collective of core/parallel.hpp (reduction, prefix sum, stable sort), over the arrays of an Ops
+// backend: the same code runs with OpenMP and as CUDA kernels, and the host backend ("native") is the
+// test bed of the device one ("cuda"). Only a handful of scalars per level (sizes, the MIS rounds' count
+// of undecided nodes) and the coarsest matrix (at most kDenseLimit rows) cross to the host, at set-up.
+//
+// Set-up, level by level, from A (n rows; the PPE's rows have diagonal 1 and negative neighbours):
+//  1. Strength: j is a strong neighbour of i when -A_ij >= theta max_{k != i} (-A_ik), theta = 0.25
+//     (on the PPE's kernel-weighted rows: the eight nearest neighbours in 2D). A row without a negative
+//     off-diagonal entry (Dirichlet rows: free surface, splash, dry walls) has none; it is left out of
+//     the coarse levels (its row of P is zero) and the smoother solves it exactly.
+//  2. Aggregates: a maximal distance-2 independent set of the strong graph by random priorities
+//     (Luby 1986; Bell, Dalton & Olson 2012, SIAM J. Sci. Comput. 34:C123). In each round an undecided
+//     node becomes a root when its priority beats every undecided node's within two strong links, and
+//     drops out when a root lies within two. Each root starts an aggregate; its strong neighbours join
+//     it (the root they are most strongly coupled to), and the nodes two links away join the aggregate
+//     of the neighbour they are most strongly coupled to. In 2D about nine nodes form an aggregate.
+//  3. Prolongation: the tentative P (1 from each node to its aggregate) smoothed by a damped Jacobi
+//     step, P = (I - omega D^-1 A) P_tent with omega = 4 / (3 rho), rho = max_i sum_j |A_ij| / |A_ii|
+//     (Gershgorin's bound on the spectral radius of D^-1 A).
+//  4. Restriction R = P^T (a transpose by stable sort), coarse matrix A_c = R (A P) (Galerkin).
+// Coarsening stops at kCoarsest unknowns or fewer, or when a level keeps more than kStall of its rows.
+// The coarsest matrix is inverted densely on the host (kDenseLimit rows at most), or else smoothed.
+//
+// Apply: one V-cycle from z = 0 (a fixed linear operator, as BiCGSTAB needs): kSweeps l1-Jacobi sweeps
+// z += D_l1^-1 (r - A z), D_l1 = diag(sum_j |A_ij|) (convergent without a weight to choose; Baker, Falgout,
+// Kolev & Yang 2011, SIAM J. Sci. Comput. 33:2864), the residual restricted, the coarse correction,
+// prolongation and kSweeps sweeps again.
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/parallel.hpp"
+#include "poisson/sparse_functors.hpp"
+
+namespace isph {
+
+namespace amg {
+
+inline constexpr double kStrengthThreshold = 0.25;
+inline constexpr int kSweeps = 1;             // before and after the coarse correction
+inline constexpr int kCoarsest = 64;          // coarsening stops at this many unknowns or fewer
+inline constexpr double kStall = 0.85;        // ... or when a level keeps more than this share of its rows
+inline constexpr int kDenseLimit = 512;       // the coarsest level is inverted densely up to this size
+inline constexpr int kCoarseSweeps = 20;      // else smoothed by this many sweeps
+inline constexpr int kMaxLevels = 25;
+inline constexpr int kProductCapacity = 256;  // entries of one row of a sparse product, at most
+
+using State = std::uint64_t;  // MIS state: code (2 bits), priority (30 bits), node (32 bits)
+inline constexpr State kOut = 0, kUndecided = 1, kRoot = 2;
+
+ISPH_HD inline std::uint32_t mix(std::uint32_t x) {  // an integer hash (the priorities; hash slots)
+  x ^= x >> 16;
+  x *= 0x7feb352dU;
+  x ^= x >> 15;
+  x *= 0x846ca68bU;
+  x ^= x >> 16;
+  return x;
+}
+ISPH_HD inline State make_state(State code, Index i) {
+  return (code << 62) | (State{mix(static_cast<std::uint32_t>(i)) & 0x3fffffffU} << 32) | static_cast<std::uint32_t>(i);
+}
+ISPH_HD inline State code_of(State s) { return s >> 62; }
+
+// cut_i = theta max_{k != i} (-A_ik), or 0 when row i has no negative off-diagonal entry.
+struct StrengthCut {
+  CsrView A;
+  double theta;
+  double* cut;
+  ISPH_HD void operator()(Index i) const {
+    double largest = 0;
+    for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k)
+      if (A.col[k] != i && -A.val[k] > largest) largest = -A.val[k];
+    cut[i] = theta * largest;
+  }
+};
+
+ISPH_HD inline bool is_strong(const CsrView& A, const double* cut, Index i, int k) {
+  return A.col[k] != i && cut[i] > 0 && -A.val[k] >= cut[i];
+}
+
+// Undecided where row i has strong neighbours, out (for good) where it has none. An out node's state is
+// below every undecided or root state, so that the maxima below pass over it.
+struct MisStart {
+  const double* cut;
+  State* state;
+  ISPH_HD void operator()(Index i) const { state[i] = make_state(cut[i] > 0 ? kUndecided : kOut, i); }
+};
+
+// highest_i = the largest state over i and its strong neighbours (applied twice: within two links).
+struct HighestNearby {
+  CsrView A;
+  const double* cut;
+  const State* in;
+  State* highest;
+  ISPH_HD void operator()(Index i) const {
+    State h = in[i];
+    for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k)
+      if (is_strong(A, cut, i, k) && in[A.col[k]] > h) h = in[A.col[k]];
+    highest[i] = h;
+  }
+};
+// One round's decision from the largest state within two links: root when it is the node's own, out
+// when it is a root's.
+struct MisDecide {
+  const State* highest;
+  State* state;
+  ISPH_HD void operator()(Index i) const {
+    if (code_of(state[i]) != kUndecided) return;
+    if (highest[i] == state[i])
+      state[i] = make_state(kRoot, i);
+    else if (code_of(highest[i]) == kRoot)
+      state[i] = make_state(kOut, i);
+  }
+};
+
+struct IsUndecided {
+  const State* state;
+  ISPH_HD Index operator()(Index i) const { return code_of(state[i]) == kUndecided ? 1 : 0; }
+};
+
+struct IsRoot {
+  const State* state;
+  Index* flag;
+  ISPH_HD void operator()(Index i) const { flag[i] = code_of(state[i]) == kRoot ? 1 : 0; }
+};
+
+// Pass 1: a root's aggregate is its coarse index (root_rank: inclusive prefix sum of the root flags);
+// a node beside roots joins the most strongly coupled one; others get -1 for now.
+struct JoinRoot {
+  CsrView A;
+  const double* cut;
+  const State* state;
+  const Index* root_rank;
+  Index* aggregate;
+  ISPH_HD void operator()(Index i) const {
+    if (code_of(state[i]) == kRoot) {
+      aggregate[i] = root_rank[i] - 1;
+      return;
+    }
+    Index best = -1;
+    double coupling = 0;
+    for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k) {
+      const Index j = A.col[k];
+      if (is_strong(A, cut, i, k) && code_of(state[j]) == kRoot && -A.val[k] > coupling) {
+        best = j;
+        coupling = -A.val[k];
+      }
+    }
+    aggregate[i] = best >= 0 ? root_rank[best] - 1 : -1;
+  }
+};
+// Pass 2: a node two links from a root joins the aggregate of its most strongly coupled strong
+// neighbour that has one; a node without strong neighbours stays at -1 (no coarse unknown).
+struct JoinNeighbour {
+  CsrView A;
+  const double* cut;
+  const Index* first;  // pass 1's result
+  Index* aggregate;
+  ISPH_HD void operator()(Index i) const {
+    Index best = first[i];
+    double coupling = 0;
+    for (int k = A.row_offset[i]; k < A.row_offset[i + 1] && first[i] < 0; ++k) {
+      if (is_strong(A, cut, i, k) && first[A.col[k]] >= 0 && -A.val[k] > coupling) {
+        best = first[A.col[k]];
+        coupling = -A.val[k];
+      }
+    }
+    aggregate[i] = best;
+  }
+};
+
+// Gershgorin's bound on the spectral radius of D^-1 A from row i: sum_j |A_ij| / |A_ii|.
+struct ScaledRowSum {
+  CsrView A;
+  const double* dinv;
+  ISPH_HD double operator()(Index i) const {
+    double s = 0;
+    for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k) s += A.val[k] < 0 ? -A.val[k] : A.val[k];
+    return s * (dinv[i] < 0 ? -dinv[i] : dinv[i]);
+  }
+};
+
+// The l1 smoother's weights: 1 / sum_j |A_ij|.
+struct InverseAbsoluteRowSum {
+  CsrView A;
+  double* l1inv;
+  ISPH_HD void operator()(Index i) const {
+    double s = 0;
+    for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k) s += A.val[k] < 0 ? -A.val[k] : A.val[k];
+    l1inv[i] = s > 0 ? 1.0 / s : 0.0;
+  }
+};
+
+// The tentative prolongation: row i holds 1 in column aggregate_i, or nothing when aggregate_i < 0.
+struct CountAggregated {
+  const Index* aggregate;
+  int* row_end;  // row_offset + 1
+  ISPH_HD void operator()(Index i) const { row_end[i] = aggregate[i] >= 0 ? 1 : 0; }
+};
+struct TentativeEntry {
+  const Index* aggregate;
+  const int* row_offset;
+  int* col;
+  double* val;
+  ISPH_HD void operator()(Index i) const {
+    if (aggregate[i] < 0) return;
+    col[row_offset[i]] = aggregate[i];
+    val[row_offset[i]] = 1;
+  }
+};
+
+// The values of I - omega D^-1 A on A's pattern (every row of A holds its diagonal).
+struct JacobiOperator {
+  CsrView A;
+  const double* dinv;
+  double omega;
+  double* val;
+  ISPH_HD void operator()(Index i) const {
+    for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k)
+      val[k] = (A.col[k] == i ? 1.0 : 0.0) - omega * dinv[i] * A.val[k];
+  }
+};
+
+// One row of a sparse product C = X Y, merged in a small open-addressing table; entries come out in
+// the order of their first contribution, so the result does not depend on the device or the threads.
+struct RowTable {
+  int key[kProductCapacity];
+  double value[kProductCapacity];
+  int order[kProductCapacity];
+  int size = 0;
+  bool overflow = false;
+  ISPH_HD RowTable() {
+    for (int s = 0; s < kProductCapacity; ++s) key[s] = -1;
+  }
+  ISPH_HD void add(int c, double v) {
+    int s = static_cast<int>(mix(static_cast<std::uint32_t>(c)) & (kProductCapacity - 1));
+    while (key[s] != -1 && key[s] != c) s = (s + 1) & (kProductCapacity - 1);
+    if (key[s] == c) {
+      value[s] += v;
+      return;
+    }
+    if (size == kProductCapacity - 1) {  // one slot stays empty, so that a search ends
+      overflow = true;
+      return;
+    }
+    key[s] = c;
+    value[s] = v;
+    order[size++] = s;
+  }
+};
+
+// Pass 1 (col == nullptr): row_end[i] = the number of entries of row i of X Y (kProductCapacity when it
+// does not fit). Pass 2: the entries, at row_offset[i].
+struct SparseProductRow {
+  CsrView X, Y;
+  int* row_end;           // pass 1: C's row_offset + 1
+  const int* row_offset;  // pass 2
+  int* col;
+  double* val;
+  ISPH_HD void operator()(Index i) const {
+    RowTable t;
+    for (int kx = X.row_offset[i]; kx < X.row_offset[i + 1]; ++kx) {
+      const int j = X.col[kx];
+      for (int ky = Y.row_offset[j]; ky < Y.row_offset[j + 1]; ++ky) t.add(Y.col[ky], X.val[kx] * Y.val[ky]);
+    }
+    if (!col) {
+      row_end[i] = t.overflow ? kProductCapacity : t.size;
+      return;
+    }
+    for (int e = 0; e < t.size; ++e) {
+      col[row_offset[i] + e] = t.key[t.order[e]];
+      val[row_offset[i] + e] = t.value[t.order[e]];
+    }
+  }
+};
+
+struct ZeroFirst {  // row_offset[0] = 0, launched over one element
+  int* v;
+  ISPH_HD void operator()(Index) const { v[0] = 0; }
+};
+struct IntAt {
+  const int* v;
+  ISPH_HD int operator()(Index i) const { return v[i]; }
+};
+
+// Transpose by a stable sort of the entries by column: the row of every entry, the entries' order.
+struct EntryRows {
+  CsrView A;
+  Index* entry_row;
+  Index* column_key;
+  Index* entry;
+  ISPH_HD void operator()(Index i) const {
+    for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k) {
+      entry_row[k] = i;
+      column_key[k] = A.col[k];
+      entry[k] = k;
+    }
+  }
+};
+// row_offset[c] of the transpose: the first sorted entry with column >= c (c in [0, columns]).
+struct FirstEntryOfColumn {
+  const Index* sorted_column;
+  Index entries;
+  int* row_offset;
+  ISPH_HD void operator()(Index c) const {
+    Index lo = 0, hi = entries;
+    while (lo < hi) {
+      const Index mid = lo + (hi - lo) / 2;
+      if (sorted_column[mid] < c)
+        lo = mid + 1;
+      else
+        hi = mid;
+    }
+    row_offset[c] = lo;
+  }
+};
+struct GatherTransposed {
+  const Index* entry;
+  const Index* entry_row;
+  const double* val;
+  int* t_col;
+  double* t_val;
+  ISPH_HD void operator()(Index q) const {
+    t_col[q] = entry_row[entry[q]];
+    t_val[q] = val[entry[q]];
+  }
+};
+
+// The cycle's loops.
+// z_out = z_in + D_l1^-1 (r - A z_in)
+struct JacobiSweep {
+  CsrView A;
+  const double* l1inv;
+  const double* r;
+  const double* z_in;
+  double* z_out;
+  ISPH_HD void operator()(Index i) const {
+    double residual = r[i];
+    for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k) residual -= A.val[k] * z_in[A.col[k]];
+    z_out[i] = z_in[i] + l1inv[i] * residual;
+  }
+};
+// res = r - A z
+struct Residual {
+  CsrView A;
+  const double* r;
+  const double* z;
+  double* res;
+  ISPH_HD void operator()(Index i) const {
+    double s = r[i];
+    for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k) s -= A.val[k] * z[A.col[k]];
+    res[i] = s;
+  }
+};
+// z += P z_coarse
+struct ProlongAdd {
+  CsrView P;
+  const double* z_coarse;
+  double* z;
+  ISPH_HD void operator()(Index i) const {
+    double s = 0;
+    for (int k = P.row_offset[i]; k < P.row_offset[i + 1]; ++k) s += P.val[k] * z_coarse[P.col[k]];
+    z[i] += s;
+  }
+};
+// y = M x, M dense n x n by rows
+struct DenseProduct {
+  int n;
+  const double* M;
+  const double* x;
+  double* y;
+  ISPH_HD void operator()(Index i) const {
+    double s = 0;
+    for (int j = 0; j < n; ++j) s += M[static_cast<std::size_t>(i) * n + j] * x[j];
+    y[i] = s;
+  }
+};
+
+// The inverse of the CSR matrix (n rows, host arrays) as a dense row-major array; its pseudo-inverse
+// when it is singular (aggregation_amg.cpp, with Eigen: host code only).
+std::vector<double> dense_inverse(int n, const std::vector<int>& row_offset, const std::vector<int>& col,
+                                  const std::vector<double>& val);
+
+}  // namespace amg
+
+// The hierarchy over an Ops backend (poisson/krylov.hpp lists what an Ops supplies; the AMG also uses
+// its typed arrays: Array<T>, array<T>(n), to_host(pointer, n) and from_host(vector)).
+template <class Ops>
+class AggregationAmg {
+ public:
+  template <class T>
+  using Array = typename Ops::template Array<T>;
+
+  explicit AggregationAmg(Ops& ops) : ops_(ops) {}
+
+  // Builds the levels below A (the fine matrix, in the backend's memory; it must outlive the hierarchy's
+  // use). Returns an empty string, or why the hierarchy cannot be built.
+  std::string setup(const CsrView& A) {
+    levels_.clear();
+    dense_n_ = 0;
+    Level fine = make_level(A.rows);
+    fine.A_view = A;
+    fine.nonzeros = entries(A);
+    levels_.push_back(std::move(fine));
+    while (true) {
+      Level& level = levels_.back();
+      const Exec exec = ops_.exec();
+      parallel_for(exec, level.n, InverseDiagonal{level.A_view, level.dinv.data()});
+      const Index bad = parallel_reduce(exec, level.n, RowWithoutDiagonal::kNoRow,
+                                        RowWithoutDiagonal{level.dinv.data()}, MinOf{});
+      if (bad != RowWithoutDiagonal::kNoRow)
+        return "zero diagonal in row " + std::to_string(bad) + ": the AMG level " + std::to_string(levels_.size() - 1) +
+               " cannot be smoothed";
+      parallel_for(exec, level.n, amg::InverseAbsoluteRowSum{level.A_view, level.l1inv.data()});
+      if (level.n <= amg::kCoarsest || static_cast<int>(levels_.size()) == amg::kMaxLevels) break;
+      int coarse_n = 0;
+      if (std::string why = coarsen(level, coarse_n); !why.empty()) return why;
+      if (coarse_n == 0 || coarse_n > amg::kStall * level.n) {  // stalled: this level is the coarsest
+        level.P = {};
+        level.R = {};
+        break;
+      }
+      Level coarse = make_level(coarse_n);
+      if (std::string why = galerkin(level, coarse); !why.empty()) return why;
+      levels_.push_back(std::move(coarse));
+    }
+    const Level& last = levels_.back();
+    if (last.n <= amg::kDenseLimit) {
+      const CsrView A_last = last.A_view;
+      const std::size_t m = static_cast<std::size_t>(last.nonzeros);
+      dense_inverse_ = ops_.from_host(amg::dense_inverse(last.n, ops_.to_host(A_last.row_offset, last.n + 1),
+                                                         ops_.to_host(A_last.col, m), ops_.to_host(A_last.val, m)));
+      dense_n_ = last.n;
+    }
+    return "";
+  }
+
+  // z = M^-1 r: one V-cycle (r and z in the backend's memory, the fine matrix's size).
+  void apply(const double* r, double* z) { cycle(0, r, z); }
+
+  // The hierarchy, for tests and diagnostics (pointers into the backend's memory): level 0 is the fine
+  // matrix; P and R of the coarsest level are empty.
+  int levels() const { return static_cast<int>(levels_.size()); }
+  int rows(int level) const { return levels_[level].n; }
+  Index nonzeros(int level) const { return levels_[level].nonzeros; }
+  CsrView matrix(int level) const { return levels_[level].A_view; }
+  CsrView prolongation(int level) const { return levels_[level].P.view(); }
+  CsrView restriction(int level) const { return levels_[level].R.view(); }
+
+ private:
+  struct Csr {
+    int rows = 0;
+    Array<int> row_offset, col;
+    Array<double> val;
+    CsrView view() const { return {rows, row_offset.data(), col.data(), val.data()}; }
+  };
+  struct Level {
+    int n = 0;
+    Index nonzeros = 0;
+    Csr A;                // levels below the finest; the finest uses A_view only
+    CsrView A_view;
+    Array<double> dinv, l1inv, res, tmp, rhs, z;  // rhs, z: a coarse level's right-hand side and correction
+    Csr P, R;             // to and from the next level
+  };
+
+  Level make_level(int n) {
+    Level l;
+    l.n = n;
+    l.dinv = ops_.template array<double>(n);
+    l.l1inv = ops_.template array<double>(n);
+    l.res = ops_.template array<double>(n);
+    l.tmp = ops_.template array<double>(n);
+    l.rhs = ops_.template array<double>(n);
+    l.z = ops_.template array<double>(n);
+    return l;
+  }
+
+  // Aggregates level's rows and builds its P; coarse_n: the number of aggregates.
+  std::string coarsen(Level& level, int& coarse_n) {
+    const Exec exec = ops_.exec();
+    const int n = level.n;
+    const CsrView A = level.A_view;
+    Array<double> cut = ops_.template array<double>(n);
+    parallel_for(exec, n, amg::StrengthCut{A, amg::kStrengthThreshold, cut.data()});
+    Array<amg::State> state = ops_.template array<amg::State>(n), near = ops_.template array<amg::State>(n),
+                      within_two = ops_.template array<amg::State>(n);
+    parallel_for(exec, n, amg::MisStart{cut.data(), state.data()});
+    // At least the largest undecided state is decided in each round.
+    while (parallel_reduce(exec, n, Index{0}, amg::IsUndecided{state.data()}, IntegerSum{}) > 0) {
+      parallel_for(exec, n, amg::HighestNearby{A, cut.data(), state.data(), near.data()});
+      parallel_for(exec, n, amg::HighestNearby{A, cut.data(), near.data(), within_two.data()});
+      parallel_for(exec, n, amg::MisDecide{within_two.data(), state.data()});
+    }
+    Array<Index> rank = ops_.template array<Index>(n), first = ops_.template array<Index>(n),
+                 aggregate = ops_.template array<Index>(n);
+    parallel_for(exec, n, amg::IsRoot{state.data(), rank.data()});
+    inclusive_scan(exec, rank.data(), n);
+    coarse_n = n > 0 ? read(rank.data() + n - 1) : 0;
+    if (coarse_n == 0) return "";
+    parallel_for(exec, n, amg::JoinRoot{A, cut.data(), state.data(), rank.data(), first.data()});
+    parallel_for(exec, n, amg::JoinNeighbour{A, cut.data(), first.data(), aggregate.data()});
+
+    Csr tentative = empty_csr(n);
+    parallel_for(exec, n, amg::CountAggregated{aggregate.data(), tentative.row_offset.data() + 1});
+    inclusive_scan(exec, tentative.row_offset.data() + 1, n);
+    allocate_entries(tentative);
+    parallel_for(exec, n, amg::TentativeEntry{aggregate.data(), tentative.row_offset.data(), tentative.col.data(),
+                                             tentative.val.data()});
+    // P = (I - omega D^-1 A) P_tent, omega = 4 / (3 rho)
+    const double rho = parallel_reduce(exec, n, 0.0, amg::ScaledRowSum{A, level.dinv.data()}, MaxOf{});
+    Array<double> jacobi = ops_.template array<double>(entries(A));
+    parallel_for(exec, n, amg::JacobiOperator{A, level.dinv.data(), 4.0 / (3.0 * rho), jacobi.data()});
+    const CsrView smoothing{n, A.row_offset, A.col, jacobi.data()};
+    return multiply(smoothing, tentative.view(), level.P);
+  }
+
+  // R = P^T and the coarse matrix R (A P).
+  std::string galerkin(Level& level, Level& coarse) {
+    transpose(level.P.view(), coarse.n, level.R);
+    Csr ap;
+    if (std::string why = multiply(level.A_view, level.P.view(), ap); !why.empty()) return why;
+    if (std::string why = multiply(level.R.view(), ap.view(), coarse.A); !why.empty()) return why;
+    coarse.A_view = coarse.A.view();
+    coarse.nonzeros = entries(coarse.A_view);
+    return "";
+  }
+
+  // C = X Y (C has X's rows)
+  std::string multiply(const CsrView& X, const CsrView& Y, Csr& C) {
+    const Exec exec = ops_.exec();
+    C = empty_csr(X.rows);
+    parallel_for(exec, X.rows, amg::SparseProductRow{X, Y, C.row_offset.data() + 1, nullptr, nullptr, nullptr});
+    const int widest = parallel_reduce(exec, X.rows, 0, amg::IntAt{C.row_offset.data() + 1}, MaxOf{});
+    if (widest >= amg::kProductCapacity - 1)
+      return "AMG: a row of a level's product has more than " + std::to_string(amg::kProductCapacity - 2) + " entries";
+    inclusive_scan(exec, C.row_offset.data() + 1, X.rows);
+    allocate_entries(C);
+    parallel_for(exec, X.rows, amg::SparseProductRow{X, Y, nullptr, C.row_offset.data(), C.col.data(), C.val.data()});
+    return "";
+  }
+
+  // T = A^T, A with `columns` columns
+  void transpose(const CsrView& A, int columns, Csr& T) {
+    const Exec exec = ops_.exec();
+    const Index m = entries(A);
+    Array<Index> entry_row = ops_.template array<Index>(m), column = ops_.template array<Index>(m),
+                 entry = ops_.template array<Index>(m);
+    parallel_for(exec, A.rows, amg::EntryRows{A, entry_row.data(), column.data(), entry.data()});
+    stable_sort_by_key(exec, column.data(), entry.data(), m, columns);
+    T.rows = columns;
+    T.row_offset = ops_.template array<int>(static_cast<std::size_t>(columns) + 1);
+    parallel_for(exec, columns + 1, amg::FirstEntryOfColumn{column.data(), m, T.row_offset.data()});
+    T.col = ops_.template array<int>(m);
+    T.val = ops_.template array<double>(m);
+    parallel_for(exec, m, amg::GatherTransposed{entry.data(), entry_row.data(), A.val, T.col.data(), T.val.data()});
+  }
+
+  Csr empty_csr(int rows) {
+    Csr c;
+    c.rows = rows;
+    c.row_offset = ops_.template array<int>(static_cast<std::size_t>(rows) + 1);
+    parallel_for(ops_.exec(), 1, amg::ZeroFirst{c.row_offset.data()});
+    return c;
+  }
+  void allocate_entries(Csr& c) {
+    const int m = read(c.row_offset.data() + c.rows);
+    c.col = ops_.template array<int>(m);
+    c.val = ops_.template array<double>(m);
+  }
+  Index entries(const CsrView& A) { return read(A.row_offset + A.rows); }
+  template <class T>
+  T read(const T* p) {
+    return ops_.to_host(p, 1)[0];
+  }
+
+  void cycle(int l, const double* r, double* z) {
+    Level& level = levels_[l];
+    const Exec exec = ops_.exec();
+    const int n = level.n;
+    const CsrView A = level.A_view;
+    const bool coarsest = l + 1 == static_cast<int>(levels_.size());
+    if (coarsest && dense_n_ == n) {
+      parallel_for(exec, n, amg::DenseProduct{n, dense_inverse_.data(), r, z});
+      return;
+    }
+    const int sweeps = coarsest ? amg::kCoarseSweeps : amg::kSweeps;
+    double* current = z;
+    double* other = level.tmp.data();
+    parallel_for(exec, n, ScaledAxpby{1, 0, level.l1inv.data(), r, current});  // the first sweep, from 0
+    for (int s = 1; s < sweeps; ++s) {
+      parallel_for(exec, n, amg::JacobiSweep{A, level.l1inv.data(), r, current, other});
+      std::swap(current, other);
+    }
+    if (!coarsest) {
+      Level& next = levels_[l + 1];
+      parallel_for(exec, n, amg::Residual{A, r, current, level.res.data()});
+      const CsrView R = level.R.view();
+      parallel_for(exec, next.n, CsrRowProduct{R.row_offset, R.col, R.val, level.res.data(), next.rhs.data()});
+      cycle(l + 1, next.rhs.data(), next.z.data());
+      parallel_for(exec, n, amg::ProlongAdd{level.P.view(), next.z.data(), current});
+      for (int s = 0; s < sweeps; ++s) {
+        parallel_for(exec, n, amg::JacobiSweep{A, level.l1inv.data(), r, current, other});
+        std::swap(current, other);
+      }
+    }
+    if (current != z) parallel_for(exec, n, ScaledAxpby{1, 0, nullptr, current, z});
+  }
+
+  Ops& ops_;
+  std::vector<Level> levels_;
+  Array<double> dense_inverse_;
+  int dense_n_ = 0;
+};
+
+}  // namespace isph

@@ -1,0 +1,130 @@
+// The smoothed-aggregation AMG preconditioner (poisson/aggregation_amg.hpp) on the host: its hierarchy
+// (Galerkin coarse matrices, R = P^T, constants interpolated exactly, geometric coarsening with bounded
+// complexity), iteration counts that barely grow with the size where Jacobi's do, and results that do
+// not depend on the thread count (the property that lets the device run the same loops).
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "poisson/aggregation_amg.hpp"
+#include "poisson/host_ops.hpp"
+#include "poisson/linear_solver.hpp"
+#include "poisson/manufactured_system.hpp"
+
+using namespace isph;
+
+namespace {
+
+CsrView view(const CsrMatrix& A) { return {A.rows, A.row_offset.data(), A.col.data(), A.val.data()}; }
+
+std::vector<double> product(const CsrView& A, const std::vector<double>& x) {
+  std::vector<double> y(A.rows);
+  parallel_for(Exec{}, A.rows, CsrRowProduct{A.row_offset, A.col, A.val, x.data(), y.data()});
+  return y;
+}
+
+std::map<std::pair<int, int>, double> entries(const CsrView& A) {
+  std::map<std::pair<int, int>, double> e;
+  for (int i = 0; i < A.rows; ++i)
+    for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k) e[{i, A.col[k]}] += A.val[k];
+  return e;
+}
+
+int solve_iterations(const ManufacturedSystem& m, const std::string& preconditioner) {
+  SolverSettings s;
+  s.backend = "native";
+  s.preconditioner = preconditioner;
+  s.max_iterations = 3000;
+  std::vector<double> x;
+  const SolveReport r = make_linear_solver(s)->solve(m.A, m.b, x);
+  EXPECT_TRUE(r.converged) << preconditioner << ": " << r.message;
+  EXPECT_LT(relative_difference(x, m.x_star), 1e-6) << preconditioner;
+  return r.iterations;
+}
+
+}  // namespace
+
+TEST(AggregationAmg, HierarchyIsGalerkinWithRestrictionThePrologationsTranspose) {
+  const auto m = manufactured_ppe_system(60, 21);
+  HostOps ops;
+  AggregationAmg<HostOps> amg(ops);
+  ASSERT_EQ(amg.setup(view(m.A)), "");
+  ASSERT_GE(amg.levels(), 3);
+  long long total = 0;
+  for (int l = 0; l < amg.levels(); ++l) total += amg.nonzeros(l);
+  EXPECT_LT(double(total) / amg.nonzeros(0), 2.0) << "operator complexity";
+  for (int l = 0; l + 1 < amg.levels(); ++l) {
+    const CsrView A = amg.matrix(l), P = amg.prolongation(l), R = amg.restriction(l), Ac = amg.matrix(l + 1);
+    EXPECT_GT(A.rows, 4 * Ac.rows) << "level " << l << " coarsens by " << double(A.rows) / Ac.rows;
+    // A_c v = R (A (P v))
+    std::vector<double> v(Ac.rows);
+    for (int i = 0; i < Ac.rows; ++i) v[i] = std::sin(1.3 * i) + 0.1 * i;
+    const auto direct = product(Ac, v), composed = product(R, product(A, product(P, v)));
+    EXPECT_LT(relative_difference(direct, composed), 1e-13) << "level " << l;
+    // R = P^T, entry by entry
+    const auto p = entries(P), r = entries(R);
+    ASSERT_EQ(p.size(), r.size()) << "level " << l;
+    for (const auto& [ij, value] : p) EXPECT_EQ(r.at({ij.second, ij.first}), value);
+  }
+  // Constants are interpolated exactly where a row sums to zero and all its columns are aggregated
+  // ((I - omega D^-1 A) P_tent 1 = 1 there); an identity row (free surface) has an empty row of P.
+  const CsrView A = amg.matrix(0), P = amg.prolongation(0);
+  const auto p1 = product(P, std::vector<double>(amg.rows(1), 1.0));
+  int checked = 0, identity_rows = 0;
+  for (int i = 0; i < A.rows; ++i) {
+    double row_sum = 0;
+    bool all_aggregated = true;
+    for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k) {
+      row_sum += A.val[k];
+      const int j = A.col[k];
+      all_aggregated = all_aggregated && P.row_offset[j + 1] > P.row_offset[j];
+    }
+    if (A.row_offset[i + 1] - A.row_offset[i] == 1) {
+      ++identity_rows;
+      EXPECT_EQ(P.row_offset[i + 1], P.row_offset[i]) << "identity row " << i;
+    } else if (all_aggregated && std::abs(row_sum) < 1e-12) {
+      ++checked;
+      EXPECT_NEAR(p1[i], 1.0, 1e-12) << "row " << i;
+    }
+  }
+  EXPECT_GT(checked, A.rows / 2);
+  EXPECT_GT(identity_rows, 0);
+}
+
+// 1,600 to 25,600 unknowns: AMG's iterations stay within a few of each other (Jacobi's grow with the
+// grid's width), and at the largest size AMG needs a fifth of Jacobi's or fewer.
+TEST(AggregationAmg, IterationsBarelyGrowWithTheSize) {
+  std::vector<int> amg, jacobi;
+  for (int n : {40, 80, 160}) {
+    const auto m = manufactured_ppe_system(n, 21);
+    amg.push_back(solve_iterations(m, "amg"));
+    jacobi.push_back(solve_iterations(m, "jacobi"));
+  }
+  EXPECT_LE(amg.back(), amg.front() + 8) << amg[0] << " " << amg[1] << " " << amg[2];
+  EXPECT_LE(amg.back(), 30);
+  EXPECT_GT(jacobi.back(), 2 * jacobi.front()) << jacobi[0] << " " << jacobi[2];
+  EXPECT_LT(5 * amg.back(), jacobi.back()) << amg.back() << " against " << jacobi.back();
+}
+
+// The set-up's loops gather, its reductions are exact, and the sort is stable, so the hierarchy and
+// the solution are the same bits for any number of threads.
+TEST(AggregationAmg, SameSolutionForAnyThreadCount) {
+  const auto m = manufactured_ppe_system(120, 21);
+  SolverSettings s;
+  s.backend = "native";
+  s.preconditioner = "amg";
+  const int threads = omp_get_max_threads();
+  std::vector<std::vector<double>> x(2);
+  std::vector<int> iterations;
+  for (int t : {1, 2}) {
+    omp_set_num_threads(t);
+    iterations.push_back(make_linear_solver(s)->solve(m.A, m.b, x[t - 1]).iterations);
+  }
+  omp_set_num_threads(threads);
+  EXPECT_EQ(iterations[0], iterations[1]);
+  EXPECT_EQ(x[0], x[1]);
+}
