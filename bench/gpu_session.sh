@@ -19,8 +19,9 @@
 #   plate   : the oscillating plate (cases/oscillating_plate.toml) at T/dx = 10 (0.7 s) and 20 (0.2 s) on
 #             the cpu (all cores) and with --device cuda; the tip histories are compared (to 1e-8)
 #   fluid   : bench/case_sweep.py, the dam break and the gate from 1e4 to 1e6 fluid particles with
-#             --device cuda and on the cpu, PPE by eigen on the host in both (the device Krylov
-#             solver does not converge on the real PPE at 1e5 and above yet)
+#             --device cuda and the PPE on the device (cuda BiCGSTAB + the AMG of
+#             poisson/aggregation_amg.hpp; Jacobi and the polynomial preconditioner do not converge at
+#             1e5 and above), and on the cpu with all cores and the build's default PPE solver
 # Logs and tables go to OUT_DIR.
 set -u -o pipefail
 build=${1:?build directory}
@@ -75,9 +76,10 @@ for step in $steps; do
       done ;;
     fluid)
       ISPH="$build/isph" python3 bench/case_sweep.py --sizes 1e4,1e5,1e6 --device cuda --threads "$(nproc)" \
-        --out "$out/sweep_cuda" 2>&1 | tee "$out/fluid_sweep_cuda.md" || status=1
+        --backend cuda --preconditioner amg --out "$out/sweep_cuda" 2>&1 | tee "$out/fluid_sweep_cuda.md" || status=1
+      cpu_backend=$(grep -q '^HYPRE_LIBRARY:FILEPATH=.*libHYPRE' "$build/CMakeCache.txt" 2>/dev/null && echo hypre || echo eigen)
       ISPH="$build/isph" python3 bench/case_sweep.py --sizes 1e4,1e5,1e6 --device cpu --threads "$(nproc)" \
-        --out "$out/sweep_cpu" 2>&1 | tee "$out/fluid_sweep_cpu.md" || status=1 ;;
+        --backend "$cpu_backend" --out "$out/sweep_cpu" 2>&1 | tee "$out/fluid_sweep_cpu.md" || status=1 ;;
     *) echo "unknown step $step"; status=1 ;;
   esac
   echo "step $step: $(( $(date +%s) - start )) s"
