@@ -74,7 +74,8 @@ class CudaOps {
   CudaOps(const CudaOps&) = delete;
   CudaOps& operator=(const CudaOps&) = delete;
 
-  Exec exec() const { return Exec{Device::cuda}; }
+  static constexpr Device device = Device::cuda;
+  Exec exec() const { return Exec{device}; }
   Vector vector(int n) const { return Vector(static_cast<std::size_t>(n)); }
   static double* data(Vector& v) { return v.data(); }
   static const double* data(const Vector& v) { return v.data(); }

@@ -28,7 +28,8 @@ class HostOps {
   Array<T> from_host(std::vector<T> v) const {
     return v;
   }
-  Exec exec() const { return Exec{Device::cpu}; }
+  static constexpr Device device = Device::cpu;
+  Exec exec() const { return Exec{device}; }
   Vector vector(int n) const { return Vector(static_cast<std::size_t>(n)); }
   static double* data(Vector& v) { return v.data(); }
   static const double* data(const Vector& v) { return v.data(); }

@@ -8,7 +8,8 @@
 //
 // An Ops type supplies:
 //   using Vector;                               // a vector in the backend's memory
-//   Exec exec() const;                          // where the functors below run
+//   static constexpr Device device;             // where the functors below run, and
+//   Exec exec() const;                          // the same as an Exec
 //   Vector vector(int n);                       // uninitialised
 //   static double* data(Vector&); static const double* data(const Vector&);
 //   void upload(std::span<const double>, Vector&); void download(const Vector&, std::span<double>);
@@ -189,7 +190,7 @@ namespace detail {
 template <class Ops>
 class OwnKrylovSolver final : public KrylovSolverFrame {
  public:
-  explicit OwnKrylovSolver(const SolverSettings& s) : KrylovSolverFrame(s) {}
+  explicit OwnKrylovSolver(const SolverSettings& s) : KrylovSolverFrame(s, Exec{Ops::device}) {}
   ~OwnKrylovSolver() override { release(); }
 
  protected:

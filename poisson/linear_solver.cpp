@@ -36,22 +36,142 @@ void require_one_of(const std::string& option, const std::string& value, const s
                               " (allowed: " + join(allowed) + ")");
 }
 
-bool all_finite(std::span<const double> v) {
-  return std::all_of(v.begin(), v.end(), [](double e) { return std::isfinite(e); });
+constexpr Index kNone = 0x7fffffff;  // "no such row": the identity of MinOf over row indices
+
+// The first row whose offsets decrease (or row 0 when its offset is not 0).
+struct BadOffset {
+  const int* row_offset;
+  ISPH_HD Index operator()(Index i) const {
+    return (i == 0 && row_offset[0] != 0) || row_offset[i + 1] < row_offset[i] ? i : kNone;
+  }
+};
+struct ColumnOutOfRange {
+  const int* col;
+  int rows;
+  ISPH_HD Index operator()(Index k) const { return col[k] < 0 || col[k] >= rows ? k : kNone; }
+};
+struct NonFiniteEntry {
+  const double* v;
+  ISPH_HD Index operator()(Index i) const { return finite_value(v[i]) ? kNone : i; }
+};
+// A row whose columns do not increase strictly (unsorted or duplicated).
+struct UnsortedRow {
+  const int* row_offset;
+  const int* col;
+  ISPH_HD Index operator()(Index i) const {
+    for (int k = row_offset[i] + 1; k < row_offset[i + 1]; ++k)
+      if (col[k] <= col[k - 1]) return i;
+    return kNone;
+  }
+};
+struct Magnitude {
+  const double* v;
+  ISPH_HD double operator()(Index i) const { return fabs(v[i]); }
+};
+struct SetValues {
+  double* v;
+  double value;
+  ISPH_HD void operator()(Index i) const { v[i] = value; }
+};
+struct CopyValues {
+  const double* from;
+  double* to;
+  ISPH_HD void operator()(Index i) const { to[i] = from[i]; }
+};
+// r_i^2 and b_i^2 of the residual r = b - A x.
+struct ResidualSquares {
+  const int* row_offset;
+  const int* col;
+  const double* val;
+  const double* b;
+  const double* x;
+  double* r2;
+  double* b2;
+  ISPH_HD void operator()(Index i) const {
+    double r = b[i];
+    for (int k = row_offset[i]; k < row_offset[i + 1]; ++k) r -= val[k] * x[col[k]];
+    r2[i] = r * r;
+    b2[i] = b[i] * b[i];
+  }
+};
+struct BlockSum {
+  const double* v;
+  Index n, block;
+  double* partial;
+  ISPH_HD void operator()(Index k) const {
+    double s = 0;
+    for (Index i = k * block; i < n && i < (k + 1) * block; ++i) s += v[i];
+    partial[k] = s;
+  }
+};
+
+template <class F>
+Index first(const Exec& exec, Index n, const F& f) {
+  return parallel_reduce(exec, n, kNone, f, MinOf{});
 }
 
-double norm2(std::span<const double> v) {
+template <class T>
+T read_back(const Exec& exec, const T* p) {
+  if (exec.device == Device::cpu) return *p;
+  T v;
+  copy_device_to_host(&v, p, sizeof(T));
+  return v;
+}
+
+StateVector<double> work_array(const Exec& exec) { return StateVector<double>(StateAllocator<double>(exec.device == Device::cuda)); }
+
+// The sum of v[0, n) in blocks of 256, the block sums added in order on the host.
+double ordered_sum(const Exec& exec, const double* v, Index n, StateVector<double>& partial) {
+  constexpr Index block = 256;
+  const Index blocks = (n + block - 1) / block;
+  partial.resize(blocks);
+  parallel_for(exec, blocks, BlockSum{v, n, block, partial.data()});
   double s = 0;
-  for (double e : v) s += e * e;
-  return std::sqrt(s);
+  for (Index k = 0; k < blocks; ++k) s += partial[k];
+  return s;
 }
 
-// True when every row has strictly increasing columns (sorted, no duplicates).
-bool is_canonical(const CsrMatrix& A) {
-  for (int i = 0; i < A.rows; ++i)
-    for (int k = A.row_offset[i] + 1; k < A.row_offset[i + 1]; ++k)
-      if (A.col[k] <= A.col[k - 1]) return false;
-  return true;
+double relative_residual_on(const Exec& exec, const CsrMatrix& A, std::span<const double> b,
+                            std::span<const double> x, StateVector<double>& r2, StateVector<double>& b2,
+                            StateVector<double>& partial) {
+  r2.resize(A.rows);
+  b2.resize(A.rows);
+  parallel_for(exec, A.rows, ResidualSquares{A.row_offset.data(), A.col.data(), A.val.data(), b.data(), x.data(),
+                                             r2.data(), b2.data()});
+  const double r = ordered_sum(exec, r2.data(), A.rows, partial), bb = ordered_sum(exec, b2.data(), A.rows, partial);
+  return bb > 0 ? std::sqrt(r / bb) : std::sqrt(r);
+}
+
+bool all_finite(const Exec& exec, std::span<const double> v) {
+  return first(exec, static_cast<Index>(v.size()), NonFiniteEntry{v.data()}) == kNone;
+}
+
+// The checks of check_linear_system, on exec.
+void check_system(const Exec& exec, const CsrMatrix& A, std::span<const double> b, std::span<const double> x) {
+  const auto fail = [](const std::string& why) { throw std::invalid_argument("linear solver: " + why); };
+  if (A.rows < 0) fail("matrix has a negative number of rows");
+  const auto n = static_cast<std::size_t>(A.rows);
+  if (n == 0 && A.row_offset.empty() && A.col.empty() && A.val.empty()) {  // a default-constructed matrix
+    if (!b.empty() || !x.empty()) fail("b and x must be empty for an empty matrix");
+    return;
+  }
+  if (A.row_offset.size() != n + 1)
+    fail("row_offset has " + std::to_string(A.row_offset.size()) + " entries, expected rows + 1 = " +
+         std::to_string(n + 1));
+  if (n == 0 && read_back(exec, A.row_offset.data()) != 0) fail("row_offset[0] must be 0");
+  if (const Index bad = first(exec, A.rows, BadOffset{A.row_offset.data()}); bad != kNone)
+    fail(bad == 0 && read_back(exec, A.row_offset.data()) != 0 ? std::string("row_offset[0] must be 0")
+                                                                : "row_offset decreases at row " + std::to_string(bad));
+  const auto nnz = static_cast<std::size_t>(read_back(exec, A.row_offset.data() + n));
+  if (A.col.size() != nnz || A.val.size() != nnz)
+    fail("col and val must have row_offset[rows] = " + std::to_string(nnz) + " entries (have " +
+         std::to_string(A.col.size()) + " and " + std::to_string(A.val.size()) + ")");
+  if (const Index bad = first(exec, static_cast<Index>(nnz), ColumnOutOfRange{A.col.data(), A.rows}); bad != kNone)
+    fail("column index " + std::to_string(read_back(exec, A.col.data() + bad)) + " out of range [0, " +
+         std::to_string(A.rows) + ")");
+  if (b.size() != n) fail("b has " + std::to_string(b.size()) + " entries, matrix has " + std::to_string(n) + " rows");
+  if (x.size() != n)
+    fail("x has " + std::to_string(x.size()) + " entries, matrix has " + std::to_string(n) + " rows");
 }
 
 // Sorts the columns of every row and sums duplicates.
@@ -143,41 +263,12 @@ std::unique_ptr<LinearSolver> make_linear_solver(const SolverSettings& s) {
 }
 
 void check_linear_system(const CsrMatrix& A, std::span<const double> b, std::span<const double> x) {
-  const auto fail = [](const std::string& why) { throw std::invalid_argument("linear solver: " + why); };
-  if (A.rows < 0) fail("matrix has a negative number of rows");
-  const auto n = static_cast<std::size_t>(A.rows);
-  if (n == 0 && A.row_offset.empty() && A.col.empty() && A.val.empty()) {  // a default-constructed matrix
-    if (!b.empty() || !x.empty()) fail("b and x must be empty for an empty matrix");
-    return;
-  }
-  if (A.row_offset.size() != n + 1)
-    fail("row_offset has " + std::to_string(A.row_offset.size()) + " entries, expected rows + 1 = " +
-         std::to_string(n + 1));
-  if (A.row_offset[0] != 0) fail("row_offset[0] must be 0");
-  for (std::size_t i = 0; i < n; ++i)
-    if (A.row_offset[i + 1] < A.row_offset[i]) fail("row_offset decreases at row " + std::to_string(i));
-  const auto nnz = static_cast<std::size_t>(A.row_offset[n]);
-  if (A.col.size() != nnz || A.val.size() != nnz)
-    fail("col and val must have row_offset[rows] = " + std::to_string(nnz) + " entries (have " +
-         std::to_string(A.col.size()) + " and " + std::to_string(A.val.size()) + ")");
-  for (std::size_t k = 0; k < nnz; ++k)
-    if (A.col[k] < 0 || A.col[k] >= A.rows)
-      fail("column index " + std::to_string(A.col[k]) + " out of range [0, " + std::to_string(A.rows) + ")");
-  if (b.size() != n) fail("b has " + std::to_string(b.size()) + " entries, matrix has " + std::to_string(n) + " rows");
-  if (x.size() != n)
-    fail("x has " + std::to_string(x.size()) + " entries, matrix has " + std::to_string(n) + " rows");
+  check_system(Exec{}, A, b, x);
 }
 
 double relative_residual(const CsrMatrix& A, std::span<const double> b, std::span<const double> x) {
-  double r2 = 0, b2 = 0;
-#pragma omp parallel for reduction(+ : r2, b2) schedule(static)
-  for (int i = 0; i < A.rows; ++i) {
-    double r = b[i];
-    for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k) r -= A.val[k] * x[A.col[k]];
-    r2 += r * r;
-    b2 += b[i] * b[i];
-  }
-  return b2 > 0 ? std::sqrt(r2 / b2) : std::sqrt(r2);
+  StateVector<double> r2, b2, partial;
+  return relative_residual_on(Exec{}, A, b, x, r2, b2, partial);
 }
 
 SolveReport LinearSolver::solve(const CsrMatrix& A, const std::vector<double>& b, std::vector<double>& x,
@@ -191,6 +282,14 @@ SolveReport LinearSolver::solve(const CsrMatrix& A, const std::vector<double>& b
 
 namespace detail {
 
+KrylovSolverFrame::KrylovSolverFrame(const SolverSettings& settings, Exec exec)
+    : settings_(settings),
+      exec_device_(exec),
+      x0_(work_array(exec)),
+      squares_(work_array(exec)),
+      b_squares_(work_array(exec)),
+      partial_(work_array(exec)) {}
+
 std::string KrylovSolverFrame::name() const {
   return settings_.backend + "-" + settings_.method + "-" + settings_.preconditioner;
 }
@@ -198,7 +297,14 @@ std::string KrylovSolverFrame::name() const {
 SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, std::span<const double> b, std::span<double> x,
                                      bool same_matrix) {
   const auto start = std::chrono::steady_clock::now();
-  check_linear_system(A_in, b, x);
+  // The frame's loops run on the backend's device when the caller's arrays live there (the fluid's, in
+  // managed memory), else on the host (a test's or a benchmark's std::vectors).
+  const Exec exec = exec_device_.device == Device::cuda && device_accessible(A_in.row_offset.data()) &&
+                             device_accessible(A_in.col.data()) && device_accessible(A_in.val.data()) &&
+                             device_accessible(b.data()) && device_accessible(x.data())
+                         ? exec_device_
+                         : Exec{};
+  check_system(exec, A_in, b, x);
   if (!same_matrix && prepared_) {
     release();
     prepared_ = false;
@@ -218,31 +324,41 @@ SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, std::span<const doub
     report.converged = true;
     return done("empty system");
   }
-  if (!all_finite(A_in.val)) {
+  const auto residual = [&](const CsrMatrix& A) {
+    return relative_residual_on(exec, A, b, x, squares_, b_squares_, partial_);
+  };
+  if (!all_finite(exec, A_in.val)) {
     report.relative_residual = nan;
     return done("the matrix has NaN or Inf entries: not solved, x unchanged");
   }
-  if (!all_finite(b)) {
+  if (!all_finite(exec, b)) {
     report.relative_residual = nan;
     return done("the right-hand side has NaN or Inf entries: not solved, x unchanged");
   }
-  if (norm2(b) == 0) {
-    std::fill(x.begin(), x.end(), 0.0);
+  if (parallel_reduce(exec, n, 0.0, Magnitude{b.data()}, MaxOf{}) == 0) {
+    parallel_for(exec, n, SetValues{x.data(), 0.0});
     report.converged = true;
     return done("b = 0: x = 0");
   }
   std::string notes;
-  if (!all_finite(x)) {
-    std::fill(x.begin(), x.end(), 0.0);
+  if (!all_finite(exec, x)) {
+    parallel_for(exec, n, SetValues{x.data(), 0.0});
     notes = "NaN/Inf initial guess replaced by zero; ";
   }
 
-  CsrMatrix sorted;
-  const bool needs_copy = !is_canonical(A_in);
-  if (needs_copy) sorted = canonical(A_in);
+  CsrMatrix sorted;  // on the host: the project's own matrices come sorted
+  const bool needs_copy = first(exec, n, UnsortedRow{A_in.row_offset.data(), A_in.col.data()}) != kNone;
+  if (needs_copy) {
+    sorted = canonical(A_in);
+    if (exec.device == Device::cuda) {
+      make_device_visible(sorted.row_offset);
+      make_device_visible(sorted.col);
+      make_device_visible(sorted.val);
+    }
+  }
   const CsrMatrix& A = needs_copy ? sorted : A_in;
 
-  double rel = relative_residual(A, b, x);
+  double rel = residual(A);
   report.relative_residual = rel;
   if (rel <= tol) {
     report.converged = true;
@@ -264,7 +380,8 @@ SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, std::span<const doub
     prepared_ = true;
   }
 
-  const std::vector<double> x0(x.begin(), x.end());
+  x0_.resize(n);
+  parallel_for(exec, n, CopyValues{x.data(), x0_.data()});
   const double eps = std::numeric_limits<double>::epsilon();
   int remaining = settings_.max_iterations;
   std::string last_note;
@@ -281,15 +398,15 @@ SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, std::span<const doub
     report.iterations += p.iterations;
     remaining -= std::max(p.iterations, 1);
     if (!p.note.empty()) last_note = p.note;
-    if (!all_finite(x)) {
-      std::copy(x0.begin(), x0.end(), x.begin());
+    if (!all_finite(exec, x)) {
+      parallel_for(exec, n, CopyValues{x0_.data(), x.data()});
       report.converged = false;
-      report.relative_residual = relative_residual(A, b, x);
+      report.relative_residual = residual(A);
       return done(notes + "the solver produced NaN/Inf (breakdown or a singular preconditioner" +
                   (last_note.empty() ? "" : ": " + last_note) + "); x restored to the initial guess");
     }
     const double previous = rel;
-    rel = relative_residual(A, b, x);
+    rel = residual(A);
     report.relative_residual = rel;
     if (rel <= tol) {
       report.converged = true;

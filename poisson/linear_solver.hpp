@@ -10,6 +10,9 @@
 //           CUDA backend, and only when a device is visible).
 // Every backend reports the TRUE relative residual ||b - A x|| / ||b||, recomputed from the CSR
 // matrix after the solve, and calls the solve converged only when that residual meets the tolerance.
+// The frame's passes over the matrix and the vectors (checks, residuals) are launcher loops on the
+// backend's device, so that the cuda backend's arrays stay where they are; their sums are taken in
+// fixed blocks and the block sums in order, so they do not depend on the threads or the device.
 // The caller's arrays come as StateVectors and spans, not std::vectors, because the fluid solver may
 // keep them in CUDA managed memory (core/device_memory.hpp).
 #pragma once
@@ -20,6 +23,7 @@
 #include <vector>
 
 #include "core/device_memory.hpp"
+#include "core/parallel.hpp"
 
 namespace isph {
 
@@ -87,7 +91,7 @@ bool hypre_available();
 // in range) and b and x have A.rows entries.
 void check_linear_system(const CsrMatrix& A, std::span<const double> b, std::span<const double> x);
 
-// ||b - A x|| / ||b||, or ||b - A x|| when b = 0 (sizes are assumed checked).
+// ||b - A x|| / ||b||, or ||b - A x|| when b = 0 (sizes are assumed checked; host or managed memory).
 double relative_residual(const CsrMatrix& A, std::span<const double> b, std::span<const double> x);
 
 namespace detail {
@@ -99,7 +103,8 @@ namespace detail {
 // internal tolerance, within the remaining iteration budget. A backend supplies setup and one pass.
 class KrylovSolverFrame : public LinearSolver {
  public:
-  explicit KrylovSolverFrame(const SolverSettings& settings) : settings_(settings) {}
+  // exec: where the frame's loops run (the backend's device); the caller's arrays must be readable there.
+  explicit KrylovSolverFrame(const SolverSettings& settings, Exec exec = {});
   using LinearSolver::solve;  // the std::vector overload
   SolveReport solve(const CsrMatrix& A, std::span<const double> b, std::span<double> x,
                     bool same_matrix = false) final;
@@ -130,6 +135,8 @@ class KrylovSolverFrame : public LinearSolver {
 
  private:
   bool prepared_ = false;  // a setup() is in place
+  Exec exec_device_;  // the backend's device
+  StateVector<double> x0_, squares_, b_squares_, partial_;  // the initial guess; the residual's work arrays
 };
 
 }  // namespace detail

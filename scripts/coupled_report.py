@@ -30,9 +30,12 @@ PLATE_CONTINUUM = 7.066e-5
 PLATE_RUNS = (("plate_T4", 4), ("plate_T8", 8), ("plate_T10", 10), ("plate_T12", 12))  # (folder, T/dx)
 PLATE_MEAN_FROM = 0.1  # [s] the seed's averaging window starts here
 # Elastic gate (Antoci et al. 2007): reference tip displacement histories.
+# Rows (file key, label, marker[, time shift in s]). The PySPH run's time column is shifted by 0.05 s, as
+# the plot script it was digitised for does (../shared/reference/README.md); it has no y curve.
 GATE_REFS = (("khayyer_2018_isph_sph", "Khayyer et al. 2018, ISPH-SPH", "o"),
              ("yang_2012_sph_fem", "Yang et al. 2012, SPH-FEM", "s"),
-             ("ng_2020_sph_vcpm_alpha_1", "Ng et al. 2020, SPH-VCPM", "^"))
+             ("ng_2020_sph_vcpm_alpha_1", "Ng et al. 2020, SPH-VCPM", "^"),
+             ("wcsph_pysph", "PySPH, WCSPH", "d", 0.05))
 GATE_SNAPSHOT_TIMES = (0.04, 0.08, 0.12, 0.16, 0.20, 0.24)  # seed Fig. 17
 COUPLED_PHASES = ("neighbours", "predictor", "free_surface", "ppe_assembly", "ppe_solve", "interaction",
                   "structure", "projection", "shifting", "wall_motion", "output", "setup")
@@ -240,9 +243,10 @@ def open_section(args, title, name):
 
 
 def reference_curves(folder, pattern, table):
-    """[(path, label, marker)] for the rows (key, label, marker) of `table` whose file pattern.format(key) exists."""
-    return [(path, label, marker) for key, label, marker in table
-            if os.path.exists(path := os.path.join(folder, pattern.format(key)))]
+    """[(path, label, marker, time shift)] for the rows (key, label, marker[, time shift]) of `table` whose file
+    pattern.format(key) exists."""
+    return [(path, row[1], row[2], row[3] if len(row) > 3 else 0.0) for row in table
+            if os.path.exists(path := os.path.join(folder, pattern.format(row[0])))]
 
 
 def run_or_partial(args, name):
@@ -254,8 +258,8 @@ def run_or_partial(args, name):
 
 
 def tip_history(args, run, refs, label, name, components=("x",)):
-    """The probe `tip` against reference curves {component: [(path, label, marker)]}; returns the probes and
-    the rows (component, reference, RMSE, reference peak and its time)."""
+    """The probe `tip` against reference curves {component: [(path, label, marker, time shift)]}; returns the
+    probes and the rows (component, reference, RMSE, reference peak and its time)."""
     d = read_probes(run)
     t = d["time"]
     fig, axes = plt.subplots(1, len(components), figsize=(5.5 * len(components), 4), squeeze=False)
@@ -263,8 +267,9 @@ def tip_history(args, run, refs, label, name, components=("x",)):
     for comp, ax in zip(components, axes[0]):
         u = d[f"tip.u{comp}"]
         ax.plot(t, u * 1e3, "k-", lw=1.5, label=label)
-        for path, ref_label, marker in refs.get(comp, ()):
+        for path, ref_label, marker, shift in refs.get(comp, ()):
             ref = read_reference(path)
+            ref[:, 0] += shift
             ax.plot(ref[:, 0], ref[:, 1] * 1e3, marker, ms=3, mfc="none", label=ref_label)
             rows.append([comp, ref_label, fmt(rmse_against(t, u, ref) * 1e3, 3), fmt(ref[:, 1].max() * 1e3, 3),
                          fmt(ref[np.argmax(ref[:, 1]), 0], 3)])

@@ -121,11 +121,12 @@ def gate_tip_rmse(run, reference):
     machine-readable: error = the mean of the RMSEs against the three numerical curves (Khayyer et al.
     2018, Yang et al. 2012, Ng et al. 2020)."""
     d = read_probes(run)
-    keys = {label: key for key, label, _ in cr.GATE_REFS}
+    refs = tuple(row for row in cr.GATE_REFS if row[0] != "wcsph_pysph")  # the three curves docs/STUDIES.md averages
+    keys = {row[1]: row[0] for row in refs}
     curves = cr.reference_curves(os.path.join(reference, "antoci_2007_elastic_gate"),
-                                 "ng_2020_elastic_dam_break_x_displacement_{}.csv", cr.GATE_REFS)
+                                 "ng_2020_elastic_dam_break_x_displacement_{}.csv", refs)
     out = {f"rmse_{keys[label]}": cr.rmse_against(d["time"], d["tip.ux"], cr.read_reference(path))
-           for path, label, _ in curves}
+           for path, label, _, _ in curves}
     return {"error": mean_of(out, out.keys()), **out, "peak_ux_m": float(np.max(d["tip.ux"]))}
 
 

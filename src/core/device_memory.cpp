@@ -43,6 +43,15 @@ void* managed_allocate(std::size_t bytes) {
 void managed_free(void* p) {
   if (p) cudaFree(p);
 }
+bool device_accessible(const void* p) {
+  if (!p) return true;
+  cudaPointerAttributes a{};
+  if (cudaPointerGetAttributes(&a, p) != cudaSuccess) {
+    cudaGetLastError();  // clear the sticky error of an unknown pointer
+    return false;
+  }
+  return a.type == cudaMemoryTypeDevice || a.type == cudaMemoryTypeManaged;
+}
 
 LaunchGraph::LaunchGraph() {
   cudaStream_t s = nullptr;
@@ -89,6 +98,7 @@ void copy_host_to_device(void*, const void*, std::size_t) { throw std::runtime_e
 void copy_device_to_host(void*, const void*, std::size_t) { throw std::runtime_error("this build has no CUDA backend"); }
 void* managed_allocate(std::size_t) { throw std::runtime_error("this build has no CUDA backend"); }
 void managed_free(void*) {}
+bool device_accessible(const void*) { return false; }
 LaunchGraph::LaunchGraph() { throw std::runtime_error("LaunchGraph: this build has no CUDA backend"); }
 LaunchGraph::~LaunchGraph() = default;
 void LaunchGraph::release() {}

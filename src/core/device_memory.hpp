@@ -24,6 +24,9 @@ void copy_device_to_host(void* dst, const void* src, std::size_t bytes);
 // the pages to whichever touches them). For state that the device steps and the host reads for output.
 void* managed_allocate(std::size_t bytes);
 void managed_free(void* p);
+// Whether a kernel can read p: device or managed memory (a null pointer, an empty array's, counts as
+// readable). False for ordinary host memory, and always without CUDA.
+bool device_accessible(const void* p);
 
 // The allocator of StateVector: ordinary host memory, or managed memory when made with
 // device_visible = true. Copies, moves and swaps carry the allocator along, so that an array assigned

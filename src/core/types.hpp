@@ -178,6 +178,9 @@ ISPH_HD inline Mat<3> inverse(const Mat<3>& a) {
 }
 
 // Whether a symmetric matrix is positive definite (Sylvester: every leading principal minor > 0).
+// |v| <= the largest double: false for NaN and +-Inf (std::isfinite is not a device function).
+ISPH_HD inline bool finite_value(double v) { return fabs(v) <= 1.7976931348623157e308; }
+
 ISPH_HD inline bool positive_definite(const Mat<2>& a) { return a(0, 0) > 0 && determinant(a) > 0; }
 ISPH_HD inline bool positive_definite(const Mat<3>& a) {
   return a(0, 0) > 0 && a(0, 0) * a(1, 1) - a(0, 1) * a(1, 0) > 0 && determinant(a) > 0;

@@ -222,9 +222,6 @@ Index first_particle(const Exec& exec, Index n, Select select) {
   return first < n ? first : -1;
 }
 
-// |v| <= the largest double: false for NaN and +-Inf.
-ISPH_HD inline bool finite_value(Real v) { return fabs(v) <= 1.7976931348623157e308; }
-
 // Particles with a non-finite position, velocity or pressure.
 template <int D>
 struct NonFiniteState {

@@ -128,3 +128,38 @@ TEST(DeviceSolvers, CudaBicgstabMatchesNativeWithEveryPreconditioner) {
     EXPECT_LT(relative_difference(y_device, y_host), 1e-8) << preconditioner;
   }
 }
+
+// The fluid hands the solver its matrix and vectors in managed memory; the frame's checks and true
+// residuals then run on the device, and the answer is the host's: the same iterations and solution,
+// and the same failure report for a NaN in b. (With host arrays, as in the test above, the frame runs
+// on the host.)
+TEST(DeviceSolvers, CudaSolverOnManagedArraysMatchesTheHost) {
+  ISPH_SKIP_WITHOUT_GPU();
+  const CsrMatrix host_A = random_matrix(80, 7);
+  const auto x_star = random_vector(host_A.rows, 8);
+  const auto host_b = host_product(host_A, x_star);
+  CsrMatrix A = host_A;
+  make_device_visible(A.row_offset);
+  make_device_visible(A.col);
+  make_device_visible(A.val);
+  StateVector<double> b(host_b.begin(), host_b.end(), StateAllocator<double>(true));
+  StateVector<double> x(host_b.size(), std::nan(""), StateAllocator<double>(true));  // replaced by zero
+  SolverSettings s;
+  s.preconditioner = "amg";
+  s.backend = "cuda";
+  const SolveReport device = make_linear_solver(s)->solve(A, std::span<const double>(b), std::span<double>(x));
+  s.backend = "native";
+  std::vector<double> x_host;
+  const SolveReport host = make_linear_solver(s)->solve(host_A, host_b, x_host);
+  ASSERT_TRUE(device.converged) << device.message;
+  ASSERT_TRUE(host.converged) << host.message;
+  EXPECT_LE(std::abs(device.iterations - host.iterations), std::max(2, host.iterations / 10));
+  EXPECT_LT(relative_difference(std::vector<double>(x.begin(), x.end()), x_host), 1e-7);
+  EXPECT_LT(device.relative_residual, s.tolerance);
+
+  b[5] = std::nan("");
+  s.backend = "cuda";
+  const SolveReport bad = make_linear_solver(s)->solve(A, std::span<const double>(b), std::span<double>(x));
+  EXPECT_FALSE(bad.converged);
+  EXPECT_NE(bad.message.find("right-hand side has NaN"), std::string::npos) << bad.message;
+}
