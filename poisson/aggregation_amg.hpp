@@ -302,23 +302,6 @@ struct EntryRows {
     }
   }
 };
-// row_offset[c] of the transpose: the first sorted entry with column >= c (c in [0, columns]).
-struct FirstEntryOfColumn {
-  const Index* sorted_column;
-  Index entries;
-  int* row_offset;
-  ISPH_HD void operator()(Index c) const {
-    Index lo = 0, hi = entries;
-    while (lo < hi) {
-      const Index mid = lo + (hi - lo) / 2;
-      if (sorted_column[mid] < c)
-        lo = mid + 1;
-      else
-        hi = mid;
-    }
-    row_offset[c] = lo;
-  }
-};
 struct GatherTransposed {
   const Index* entry;
   const Index* entry_row;
@@ -340,9 +323,7 @@ struct JacobiSweep {
   const double* z_in;
   double* z_out;
   ISPH_HD void operator()(Index i) const {
-    double residual = r[i];
-    for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k) residual -= A.val[k] * z_in[A.col[k]];
-    z_out[i] = z_in[i] + l1inv[i] * residual;
+    z_out[i] = z_in[i] + l1inv[i] * row_residual(A.row_offset, A.col, A.val, r, z_in, i);
   }
 };
 // res = r - A z
@@ -351,11 +332,7 @@ struct Residual {
   const double* r;
   const double* z;
   double* res;
-  ISPH_HD void operator()(Index i) const {
-    double s = r[i];
-    for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k) s -= A.val[k] * z[A.col[k]];
-    res[i] = s;
-  }
+  ISPH_HD void operator()(Index i) const { res[i] = row_residual(A.row_offset, A.col, A.val, r, z, i); }
 };
 // z += P z_coarse
 struct ProlongAdd {
@@ -554,7 +531,7 @@ class AggregationAmg {
     stable_sort_by_key(exec, column.data(), entry.data(), m, columns);
     T.rows = columns;
     T.row_offset = ops_.template array<int>(static_cast<std::size_t>(columns) + 1);
-    parallel_for(exec, columns + 1, amg::FirstEntryOfColumn{column.data(), m, T.row_offset.data()});
+    parallel_for(exec, columns + 1, KeyStarts{column.data(), m, T.row_offset.data()});  // row offsets
     T.col = ops_.template array<int>(m);
     T.val = ops_.template array<double>(m);
     parallel_for(exec, m, amg::GatherTransposed{entry.data(), entry_row.data(), A.val, T.col.data(), T.val.data()});

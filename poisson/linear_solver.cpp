@@ -1,5 +1,6 @@
 // The solver factory, option checking, and the frame shared by every backend (see linear_solver.hpp).
 #include "poisson/linear_solver.hpp"
+#include "poisson/sparse_functors.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -88,8 +89,7 @@ struct ResidualSquares {
   double* r2;
   double* b2;
   ISPH_HD void operator()(Index i) const {
-    double r = b[i];
-    for (int k = row_offset[i]; k < row_offset[i + 1]; ++k) r -= val[k] * x[col[k]];
+    const double r = row_residual(row_offset, col, val, b, x, i);
     r2[i] = r * r;
     b2[i] = b[i] * b[i];
   }

@@ -31,6 +31,14 @@ struct CsrRowProduct {
   }
 };
 
+// r_i - sum_k A_ik z_k over row i of a CSR matrix.
+ISPH_HD inline double row_residual(const int* row_offset, const int* col, const double* val, const double* r,
+                                   const double* z, Index i) {
+  double s = r[i];
+  for (int k = row_offset[i]; k < row_offset[i + 1]; ++k) s -= val[k] * z[col[k]];
+  return s;
+}
+
 // A CSR matrix as pointers, in whichever memory holds it.
 struct CsrView {
   int rows = 0;

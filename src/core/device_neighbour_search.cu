@@ -42,22 +42,6 @@ struct CellKey {
   }
 };
 
-// cell_start[c] = the first sorted position whose key is >= c (a lower bound), for c in [0, cells].
-struct CellStart {
-  const Index* sorted_key;
-  Index n;
-  Index* cell_start;
-  ISPH_HD void operator()(Index c) const {
-    Index lo = 0, hi = n;
-    while (lo < hi) {
-      const Index mid = lo + (hi - lo) / 2;
-      if (sorted_key[mid] < c) lo = mid + 1;
-      else hi = mid;
-    }
-    cell_start[c] = lo;
-  }
-};
-
 }  // namespace
 
 template <int D>
@@ -109,7 +93,7 @@ void DeviceCellList<D>::build(const Vec<D>* x, Index n, Real radius, const Perio
         "sort");
   cell_start_.grow_to(static_cast<std::size_t>(grid_.cells) + 1);
   poison(cell_start_);
-  parallel_for(gpu, grid_.cells + 1, CellStart{sorted_key_.data(), n, cell_start_.data()});
+  parallel_for(gpu, grid_.cells + 1, KeyStarts{sorted_key_.data(), n, cell_start_.data()});
 }
 
 template <int D>

@@ -132,6 +132,25 @@ inline void inclusive_scan(const Exec& exec, Index* v, Index n) {
   for (Index i = 1; i < n; ++i) v[i] += v[i - 1];
 }
 
+// start[c] = the first position of n sorted keys whose key is >= c (a lower bound), launched over c in
+// [0, key_bound]: where each key's run starts, as the row offsets of a CSR structure.
+struct KeyStarts {
+  const Index* sorted_key;
+  Index n;
+  Index* start;
+  ISPH_HD void operator()(Index c) const {
+    Index lo = 0, hi = n;
+    while (lo < hi) {
+      const Index mid = lo + (hi - lo) / 2;
+      if (sorted_key[mid] < c)
+        lo = mid + 1;
+      else
+        hi = mid;
+    }
+    start[c] = lo;
+  }
+};
+
 // Reorders values by their keys, which lie in [0, key_bound), keeping the order of equal keys; the keys
 // end up sorted too. A counting sort on the host, thrust's stable sort on the device.
 inline void stable_sort_by_key(const Exec& exec, Index* keys, Index* values, Index n, Index key_bound) {
