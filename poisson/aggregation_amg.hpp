@@ -376,37 +376,38 @@ class AggregationAmg {
   explicit AggregationAmg(Ops& ops) : ops_(ops) {}
 
   // Builds the levels below A (the fine matrix, in the backend's memory; it must outlive the hierarchy's
-  // use). Returns an empty string, or why the hierarchy cannot be built.
+  // use). Returns an empty string, or why the hierarchy cannot be built. The arrays of the last set-up
+  // are reused where they are large enough (a run's matrices change little from step to step), so that
+  // a set-up on the device allocates, and synchronises, only when a size grows.
   std::string setup(const CsrView& A) {
-    levels_.clear();
+    levels_used_ = 0;
     dense_n_ = 0;
-    Level fine = make_level(A.rows);
+    Level& fine = next_level(A.rows);
     fine.A_view = A;
     fine.nonzeros = entries(A);
-    levels_.push_back(std::move(fine));
     while (true) {
-      Level& level = levels_.back();
+      Level& level = levels_[levels_used_ - 1];
       const Exec exec = ops_.exec();
       parallel_for(exec, level.n, InverseDiagonal{level.A_view, level.dinv.data()});
       const Index bad = parallel_reduce(exec, level.n, RowWithoutDiagonal::kNoRow,
                                         RowWithoutDiagonal{level.dinv.data()}, MinOf{});
       if (bad != RowWithoutDiagonal::kNoRow)
-        return "zero diagonal in row " + std::to_string(bad) + ": the AMG level " + std::to_string(levels_.size() - 1) +
+        return "zero diagonal in row " + std::to_string(bad) + ": the AMG level " + std::to_string(levels_used_ - 1) +
                " cannot be smoothed";
       parallel_for(exec, level.n, amg::InverseAbsoluteRowSum{level.A_view, level.l1inv.data()});
-      if (level.n <= amg::kCoarsest || static_cast<int>(levels_.size()) == amg::kMaxLevels) break;
+      level.P.rows = level.R.rows = 0;
+      if (level.n <= amg::kCoarsest || levels_used_ == amg::kMaxLevels) break;
       int coarse_n = 0;
       if (std::string why = coarsen(level, coarse_n); !why.empty()) return why;
       if (coarse_n == 0 || coarse_n > amg::kStall * level.n) {  // stalled: this level is the coarsest
-        level.P = {};
-        level.R = {};
+        level.P.rows = 0;
         break;
       }
-      Level coarse = make_level(coarse_n);
-      if (std::string why = galerkin(level, coarse); !why.empty()) return why;
-      levels_.push_back(std::move(coarse));
+      const std::size_t at = levels_used_ - 1;
+      Level& coarse = next_level(coarse_n);  // may move the levels: `level` is levels_[at] again
+      if (std::string why = galerkin(levels_[at], coarse); !why.empty()) return why;
     }
-    const Level& last = levels_.back();
+    const Level& last = levels_[levels_used_ - 1];
     if (last.n <= amg::kDenseLimit) {
       const CsrView A_last = last.A_view;
       const std::size_t m = static_cast<std::size_t>(last.nonzeros);
@@ -422,7 +423,7 @@ class AggregationAmg {
 
   // The hierarchy, for tests and diagnostics (pointers into the backend's memory): level 0 is the fine
   // matrix; P and R of the coarsest level are empty.
-  int levels() const { return static_cast<int>(levels_.size()); }
+  int levels() const { return static_cast<int>(levels_used_); }
   int rows(int level) const { return levels_[level].n; }
   Index nonzeros(int level) const { return levels_[level].nonzeros; }
   CsrView matrix(int level) const { return levels_[level].A_view; }
@@ -430,11 +431,11 @@ class AggregationAmg {
   CsrView restriction(int level) const { return levels_[level].R.view(); }
 
  private:
-  struct Csr {
+  struct Csr {  // rows = 0: empty (its arrays may hold an earlier set-up's entries)
     int rows = 0;
     Array<int> row_offset, col;
     Array<double> val;
-    CsrView view() const { return {rows, row_offset.data(), col.data(), val.data()}; }
+    CsrView view() const { return rows == 0 ? CsrView{} : CsrView{rows, row_offset.data(), col.data(), val.data()}; }
   };
   struct Level {
     int n = 0;
@@ -445,16 +446,19 @@ class AggregationAmg {
     Csr P, R;             // to and from the next level
   };
 
-  Level make_level(int n) {
-    Level l;
+  // The next level of n rows, its vectors at least n long.
+  Level& next_level(int n) {
+    if (levels_used_ == levels_.size()) levels_.emplace_back();
+    Level& l = levels_[levels_used_++];
     l.n = n;
-    l.dinv = ops_.template array<double>(n);
-    l.l1inv = ops_.template array<double>(n);
-    l.res = ops_.template array<double>(n);
-    l.tmp = ops_.template array<double>(n);
-    l.rhs = ops_.template array<double>(n);
-    l.z = ops_.template array<double>(n);
+    for (Array<double>* v : {&l.dinv, &l.l1inv, &l.res, &l.tmp, &l.rhs, &l.z}) ensure(*v, n);
     return l;
+  }
+
+  // a holds at least n elements (its contents are not kept when it grows).
+  template <class T>
+  void ensure(Array<T>& a, std::size_t n) {
+    if (a.size() < n) a = ops_.template array<T>(n);
   }
 
   // Aggregates level's rows and builds its P; coarse_n: the number of aggregates.
@@ -462,10 +466,15 @@ class AggregationAmg {
     const Exec exec = ops_.exec();
     const int n = level.n;
     const CsrView A = level.A_view;
-    Array<double> cut = ops_.template array<double>(n);
-    parallel_for(exec, n, amg::StrengthCut{A, amg::kStrengthThreshold, cut.data()});
-    Array<amg::State> state = ops_.template array<amg::State>(n), near = ops_.template array<amg::State>(n),
-                      within_two = ops_.template array<amg::State>(n);
+    Scratch& w = scratch_;
+    for (Array<amg::State>* v : {&w.state, &w.near, &w.within_two}) ensure(*v, n);
+    for (Array<Index>* v : {&w.rank, &w.first, &w.aggregate}) ensure(*v, n);
+    ensure(w.cut, n);
+    ensure(w.jacobi, entries(A));
+    const Array<double>& cut = w.cut;
+    Array<amg::State>&state = w.state, &near = w.near, &within_two = w.within_two;
+    Array<Index>&rank = w.rank, &first = w.first, &aggregate = w.aggregate;
+    parallel_for(exec, n, amg::StrengthCut{A, amg::kStrengthThreshold, w.cut.data()});
     parallel_for(exec, n, amg::MisStart{cut.data(), state.data()});
     // At least the largest undecided state is decided in each round.
     while (parallel_reduce(exec, n, Index{0}, amg::IsUndecided{state.data()}, IntegerSum{}) > 0) {
@@ -473,8 +482,6 @@ class AggregationAmg {
       parallel_for(exec, n, amg::HighestNearby{A, cut.data(), near.data(), within_two.data()});
       parallel_for(exec, n, amg::MisDecide{within_two.data(), state.data()});
     }
-    Array<Index> rank = ops_.template array<Index>(n), first = ops_.template array<Index>(n),
-                 aggregate = ops_.template array<Index>(n);
     parallel_for(exec, n, amg::IsRoot{state.data(), rank.data()});
     inclusive_scan(exec, rank.data(), n);
     coarse_n = n > 0 ? read(rank.data() + n - 1) : 0;
@@ -482,7 +489,8 @@ class AggregationAmg {
     parallel_for(exec, n, amg::JoinRoot{A, cut.data(), state.data(), rank.data(), first.data()});
     parallel_for(exec, n, amg::JoinNeighbour{A, cut.data(), first.data(), aggregate.data()});
 
-    Csr tentative = empty_csr(n);
+    Csr& tentative = w.tentative;
+    start_csr(tentative, n);
     parallel_for(exec, n, amg::CountAggregated{aggregate.data(), tentative.row_offset.data() + 1});
     inclusive_scan(exec, tentative.row_offset.data() + 1, n);
     allocate_entries(tentative);
@@ -490,16 +498,15 @@ class AggregationAmg {
                                              tentative.val.data()});
     // P = (I - omega D^-1 A) P_tent, omega = 4 / (3 rho)
     const double rho = parallel_reduce(exec, n, 0.0, amg::ScaledRowSum{A, level.dinv.data()}, MaxOf{});
-    Array<double> jacobi = ops_.template array<double>(entries(A));
-    parallel_for(exec, n, amg::JacobiOperator{A, level.dinv.data(), 4.0 / (3.0 * rho), jacobi.data()});
-    const CsrView smoothing{n, A.row_offset, A.col, jacobi.data()};
+    parallel_for(exec, n, amg::JacobiOperator{A, level.dinv.data(), 4.0 / (3.0 * rho), w.jacobi.data()});
+    const CsrView smoothing{n, A.row_offset, A.col, w.jacobi.data()};
     return multiply(smoothing, tentative.view(), level.P);
   }
 
   // R = P^T and the coarse matrix R (A P).
   std::string galerkin(Level& level, Level& coarse) {
     transpose(level.P.view(), coarse.n, level.R);
-    Csr ap;
+    Csr& ap = scratch_.ap;
     if (std::string why = multiply(level.A_view, level.P.view(), ap); !why.empty()) return why;
     if (std::string why = multiply(level.R.view(), ap.view(), coarse.A); !why.empty()) return why;
     coarse.A_view = coarse.A.view();
@@ -510,7 +517,7 @@ class AggregationAmg {
   // C = X Y (C has X's rows)
   std::string multiply(const CsrView& X, const CsrView& Y, Csr& C) {
     const Exec exec = ops_.exec();
-    C = empty_csr(X.rows);
+    start_csr(C, X.rows);
     parallel_for(exec, X.rows, amg::SparseProductRow{X, Y, C.row_offset.data() + 1, nullptr, nullptr, nullptr});
     const int widest = parallel_reduce(exec, X.rows, 0, amg::IntAt{C.row_offset.data() + 1}, MaxOf{});
     if (widest >= amg::kProductCapacity - 1)
@@ -525,29 +532,28 @@ class AggregationAmg {
   void transpose(const CsrView& A, int columns, Csr& T) {
     const Exec exec = ops_.exec();
     const Index m = entries(A);
-    Array<Index> entry_row = ops_.template array<Index>(m), column = ops_.template array<Index>(m),
-                 entry = ops_.template array<Index>(m);
-    parallel_for(exec, A.rows, amg::EntryRows{A, entry_row.data(), column.data(), entry.data()});
-    stable_sort_by_key(exec, column.data(), entry.data(), m, columns);
+    Scratch& w = scratch_;
+    for (Array<Index>* v : {&w.entry_row, &w.column, &w.entry}) ensure(*v, m);
+    parallel_for(exec, A.rows, amg::EntryRows{A, w.entry_row.data(), w.column.data(), w.entry.data()});
+    stable_sort_by_key(exec, w.column.data(), w.entry.data(), m, columns);
     T.rows = columns;
-    T.row_offset = ops_.template array<int>(static_cast<std::size_t>(columns) + 1);
-    parallel_for(exec, columns + 1, KeyStarts{column.data(), m, T.row_offset.data()});  // row offsets
-    T.col = ops_.template array<int>(m);
-    T.val = ops_.template array<double>(m);
-    parallel_for(exec, m, amg::GatherTransposed{entry.data(), entry_row.data(), A.val, T.col.data(), T.val.data()});
+    ensure(T.row_offset, static_cast<std::size_t>(columns) + 1);
+    parallel_for(exec, columns + 1, KeyStarts{w.column.data(), m, T.row_offset.data()});  // row offsets
+    ensure(T.col, m);
+    ensure(T.val, m);
+    parallel_for(exec, m, amg::GatherTransposed{w.entry.data(), w.entry_row.data(), A.val, T.col.data(), T.val.data()});
   }
 
-  Csr empty_csr(int rows) {
-    Csr c;
+  // c gets `rows` rows and row_offset[0] = 0; the entries follow by allocate_entries once the offsets hold.
+  void start_csr(Csr& c, int rows) {
     c.rows = rows;
-    c.row_offset = ops_.template array<int>(static_cast<std::size_t>(rows) + 1);
+    ensure(c.row_offset, static_cast<std::size_t>(rows) + 1);
     parallel_for(ops_.exec(), 1, amg::ZeroFirst{c.row_offset.data()});
-    return c;
   }
   void allocate_entries(Csr& c) {
     const int m = read(c.row_offset.data() + c.rows);
-    c.col = ops_.template array<int>(m);
-    c.val = ops_.template array<double>(m);
+    ensure(c.col, m);
+    ensure(c.val, m);
   }
   Index entries(const CsrView& A) { return read(A.row_offset + A.rows); }
   template <class T>
@@ -560,7 +566,7 @@ class AggregationAmg {
     const Exec exec = ops_.exec();
     const int n = level.n;
     const CsrView A = level.A_view;
-    const bool coarsest = l + 1 == static_cast<int>(levels_.size());
+    const bool coarsest = l + 1 == static_cast<int>(levels_used_);
     if (coarsest && dense_n_ == n) {
       parallel_for(exec, n, amg::DenseProduct{n, dense_inverse_.data(), r, z});
       return;
@@ -588,8 +594,18 @@ class AggregationAmg {
     if (current != z) parallel_for(exec, n, ScaledAxpby{1, 0, nullptr, current, z});
   }
 
+  // Work arrays of the set-up, kept for the next one.
+  struct Scratch {
+    Array<double> cut, jacobi;
+    Array<amg::State> state, near, within_two;
+    Array<Index> rank, first, aggregate, entry_row, column, entry;
+    Csr tentative, ap;
+  };
+
   Ops& ops_;
-  std::vector<Level> levels_;
+  std::vector<Level> levels_;  // the first levels_used_ are the hierarchy; the rest keep arrays for later
+  std::size_t levels_used_ = 0;
+  Scratch scratch_;
   Array<double> dense_inverse_;
   int dense_n_ = 0;
 };

@@ -128,3 +128,22 @@ TEST(AggregationAmg, SameSolutionForAnyThreadCount) {
   EXPECT_EQ(iterations[0], iterations[1]);
   EXPECT_EQ(x[0], x[1]);
 }
+
+// A solver keeps the hierarchy's arrays from one matrix to the next (a set-up on the device then
+// allocates only when a size grows): a larger, a smaller and a larger system again give the bits a
+// fresh solver gives.
+TEST(AggregationAmg, ReusedArraysGiveAFreshHierarchysAnswer) {
+  SolverSettings s;
+  s.backend = "native";
+  s.preconditioner = "amg";
+  auto kept = make_linear_solver(s);
+  for (int n : {80, 40, 80, 60}) {
+    auto m = manufactured_ppe_system(n, 21);
+    for (double& v : m.A.val) v *= 1.0 + 1e-3 * n;  // another matrix each time, even at the same size
+    std::vector<double> x_kept, x_fresh;
+    const SolveReport a = kept->solve(m.A, m.b, x_kept), b = make_linear_solver(s)->solve(m.A, m.b, x_fresh);
+    ASSERT_TRUE(a.converged) << n << ": " << a.message;
+    EXPECT_EQ(a.iterations, b.iterations) << n;
+    EXPECT_EQ(x_kept, x_fresh) << n;
+  }
+}
