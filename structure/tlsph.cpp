@@ -315,6 +315,14 @@ void TlsphSolver<D>::restore_state() {
 }
 
 template <int D>
+void TlsphSolver<D>::set_motion(std::span<const Vec<D>> x, std::span<const Vec<D>> v) {
+  std::copy(x.begin(), x.end(), x_.begin());
+  std::copy(v.begin(), v.end(), v_.begin());
+  verlet_started_ = false;
+  update_stress();
+}
+
+template <int D>
 Real TlsphSolver<D>::interaction_power() const {
   Real p = 0;
   if (interaction_.empty()) return p;

@@ -97,6 +97,9 @@ class TlsphSolver {
   // coupled step can be repeated with another interaction field.
   void save_state();
   void restore_state();
+  // Takes positions and velocities from elsewhere (a restart), indexed as this solver's particles,
+  // and recomputes F and the stress; the explicit scheme starts afresh.
+  void set_motion(std::span<const Vec<D>> x, std::span<const Vec<D>> v);
 
   Index size() const { return n_; }
   Index pairs() const { return static_cast<Index>(nbr_.size()); }

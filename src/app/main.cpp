@@ -61,6 +61,10 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"cpu", "cuda"}));
   run->add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
   run->add_flag("--quiet", quiet, "no progress line");
+  std::string restart;
+  run->add_option("--restart", restart,
+                  "continue from a snapshot (.h5) of an earlier run of the same case and --set options; ISPH runs")
+      ->check(CLI::ExistingFile);
 
   auto* check = app.add_subcommand("check", "validate a case file and report every problem");
   check->add_option("case", case_path, "case file (TOML)")->required();
@@ -93,6 +97,7 @@ int main(int argc, char** argv) {
     opt.device = device == "cuda" ? Device::cuda : Device::cpu;
     opt.threads = threads;
     opt.progress = !quiet;
+    opt.restart = restart;
     const RunResult r = run_case(spec, opt);
     return r.status == "completed" ? 0 : 3;
   } catch (const CaseError& e) {

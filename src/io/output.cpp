@@ -4,8 +4,10 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <locale>
 #include <optional>
@@ -131,6 +133,36 @@ void CsvTable::add_row(const std::vector<double>& values) {
   rows_.push_back(values);
 }
 
+std::size_t CsvTable::add_rows_before(const std::string& path, double before) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot read " + path);
+  std::string line;
+  std::string header;
+  for (std::size_t c = 0; c < columns_.size(); ++c) header += (c ? "," : "") + columns_[c];
+  if (!std::getline(in, line) || line != header)
+    throw std::runtime_error(path + " has the columns '" + line + "', not '" + header + "'");
+  std::size_t added = 0;
+  for (std::size_t number = 2; std::getline(in, line); ++number) {
+    if (line.empty()) continue;
+    std::vector<double> row;
+    std::istringstream fields(line);
+    fields.imbue(std::locale::classic());
+    for (std::string cell; std::getline(fields, cell, ',');) {
+      char* end = nullptr;
+      row.push_back(std::strtod(cell.c_str(), &end));
+      if (end == cell.c_str() || *end != '\0')
+        throw std::runtime_error(path + ":" + std::to_string(number) + ": '" + cell + "' is not a number");
+    }
+    if (row.size() != columns_.size())
+      throw std::runtime_error(path + ":" + std::to_string(number) + " has " + std::to_string(row.size()) +
+                               " values for " + std::to_string(columns_.size()) + " columns");
+    if (!(row[0] < before)) break;
+    rows_.push_back(std::move(row));
+    ++added;
+  }
+  return added;
+}
+
 void CsvTable::flush() const {
   std::ostringstream out;
   out.imbue(std::locale::classic());
@@ -236,9 +268,21 @@ void write_dataset(hid_t file, const std::string& path, const std::string& name,
   dataset.close("close " + where);
 }
 
+void write_attribute(hid_t file, const std::string& path, const std::string& name, double value) {
+  H5Handle scalar(H5Screate(H5S_SCALAR), H5Sclose, "create a scalar dataspace");
+  H5Handle attribute(
+      H5Acreate2(file, name.c_str(), H5T_IEEE_F64LE, scalar.get(), H5P_DEFAULT, H5P_DEFAULT),
+      H5Aclose, "create attribute " + name + " in " + path);
+  if (H5Awrite(attribute.get(), H5T_NATIVE_DOUBLE, &value) < 0) {
+    throw std::runtime_error("HDF5: cannot write attribute " + name + " in " + path);
+  }
+  attribute.close("close attribute " + name + " in " + path);
+}
+
 void write_snapshot_file(const std::string& path, double time,
                          const std::vector<double>& positions,
-                         const std::vector<SnapshotField>& fields) {
+                         const std::vector<SnapshotField>& fields,
+                         const SnapshotAttributes& attributes) {
   const auto n = static_cast<hsize_t>(positions.size() / 3);
   H5Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
                 "create " + path);
@@ -248,14 +292,8 @@ void write_snapshot_file(const std::string& path, double time,
     if (field.components > 1) dims.push_back(static_cast<hsize_t>(field.components));
     write_dataset(file.get(), path, field.name, dims, field.data.data());
   }
-  H5Handle scalar(H5Screate(H5S_SCALAR), H5Sclose, "create a scalar dataspace");
-  H5Handle attribute(
-      H5Acreate2(file.get(), "time", H5T_IEEE_F64LE, scalar.get(), H5P_DEFAULT, H5P_DEFAULT),
-      H5Aclose, "create attribute time in " + path);
-  if (H5Awrite(attribute.get(), H5T_NATIVE_DOUBLE, &time) < 0) {
-    throw std::runtime_error("HDF5: cannot write attribute time in " + path);
-  }
-  attribute.close("close attribute time in " + path);
+  write_attribute(file.get(), path, "time", time);
+  for (const auto& [name, value] : attributes) write_attribute(file.get(), path, name, value);
   file.close("close " + path);
 }
 
@@ -301,7 +339,7 @@ bool SnapshotWriter::available() {
 
 #ifdef ISPH_HAVE_HDF5
 void SnapshotWriter::write(double time, const std::vector<std::array<double, 3>>& positions,
-                           const std::vector<SnapshotField>& fields) {
+                           const std::vector<SnapshotField>& fields, const SnapshotAttributes& attributes) {
   if (dir_.empty()) throw std::logic_error("SnapshotWriter::write: no output directory");
   const std::size_t n = positions.size();
   std::vector<std::pair<std::string, int>> layout;
@@ -337,7 +375,7 @@ void SnapshotWriter::write(double time, const std::vector<std::array<double, 3>>
   const std::string path = (snapshots / name).string();
   const std::string tmp = path + ".tmp";
   try {
-    write_snapshot_file(tmp, time, flat, fields);
+    write_snapshot_file(tmp, time, flat, fields, attributes);
   } catch (...) {
     std::remove(tmp.c_str());
     throw;
@@ -384,7 +422,93 @@ void SnapshotWriter::write(double time, const std::vector<std::array<double, 3>>
 }
 #else
 void SnapshotWriter::write(double, const std::vector<std::array<double, 3>>&,
-                           const std::vector<SnapshotField>&) {}
+                           const std::vector<SnapshotField>&, const SnapshotAttributes&) {}
+#endif
+
+std::size_t SnapshotData::size() const { return field("position").data.size() / 3; }
+
+const SnapshotField& SnapshotData::field(const std::string& name) const {
+  const auto it = fields.find(name);
+  if (it == fields.end()) throw std::runtime_error(path + " has no dataset '" + name + "'");
+  return it->second;
+}
+
+std::vector<long long> SnapshotData::rows_by_id() const {
+  const SnapshotField& ids = field("id");
+  double max_id = -1;
+  for (const double id : ids.data) max_id = std::max(max_id, id);
+  std::vector<long long> row(static_cast<std::size_t>(max_id + 1), -1);
+  for (std::size_t r = 0; r < ids.data.size(); ++r)
+    if (ids.data[r] >= 0) row[static_cast<std::size_t>(ids.data[r])] = static_cast<long long>(r);
+  return row;
+}
+
+#ifdef ISPH_HAVE_HDF5
+namespace {
+
+herr_t collect_attribute_name(hid_t, const char* name, const H5A_info_t*, void* names) {
+  static_cast<std::vector<std::string>*>(names)->push_back(name);
+  return 0;
+}
+
+// The names of the links in the root group (the datasets of a snapshot) or of the root's attributes.
+std::vector<std::string> root_names(hid_t file, const std::string& path, bool attributes) {
+  std::vector<std::string> names;
+  if (attributes) {
+    if (H5Aiterate2(file, H5_INDEX_NAME, H5_ITER_INC, nullptr, collect_attribute_name, &names) < 0)
+      throw std::runtime_error("HDF5: cannot list the attributes of " + path);
+    return names;
+  }
+  H5G_info_t info;
+  if (H5Gget_info(file, &info) < 0) throw std::runtime_error("HDF5: cannot read the root of " + path);
+  for (hsize_t i = 0; i < info.nlinks; ++i) {
+    char name[256];
+    const ssize_t length = H5Lget_name_by_idx(file, ".", H5_INDEX_NAME, H5_ITER_INC, i, name, sizeof name, H5P_DEFAULT);
+    if (length < 0 || length >= static_cast<ssize_t>(sizeof name))
+      throw std::runtime_error("HDF5: cannot read a dataset name in " + path);
+    names.emplace_back(name);
+  }
+  return names;
+}
+
+}  // namespace
+
+SnapshotData read_snapshot(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path)) throw std::runtime_error("snapshot " + path + " does not exist");
+  SnapshotData out;
+  out.path = path;
+  H5Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, "open " + path);
+  for (const auto& name : root_names(file.get(), path, false)) {
+    const std::string where = "dataset " + name + " in " + path;
+    H5Handle dataset(H5Dopen2(file.get(), name.c_str(), H5P_DEFAULT), H5Dclose, "open " + where);
+    H5Handle space(H5Dget_space(dataset.get()), H5Sclose, "read the dataspace of " + where);
+    hsize_t dims[2] = {0, 1};
+    const int rank = H5Sget_simple_extent_dims(space.get(), dims, nullptr);
+    if (rank < 1 || rank > 2) throw std::runtime_error("HDF5: " + where + " has rank " + std::to_string(rank));
+    SnapshotField field{name, static_cast<int>(rank == 2 ? dims[1] : 1),
+                        std::vector<double>(static_cast<std::size_t>(dims[0] * (rank == 2 ? dims[1] : 1)))};
+    if (dims[0] > 0 &&
+        H5Dread(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, field.data.data()) < 0)
+      throw std::runtime_error("HDF5: cannot read " + where);
+    out.fields.emplace(name, std::move(field));
+  }
+  for (const auto& name : root_names(file.get(), path, true)) {
+    H5Handle attribute(H5Aopen(file.get(), name.c_str(), H5P_DEFAULT), H5Aclose,
+                       "open attribute " + name + " in " + path);
+    double value = 0;
+    if (H5Aread(attribute.get(), H5T_NATIVE_DOUBLE, &value) < 0)
+      throw std::runtime_error("HDF5: cannot read attribute " + name + " in " + path);
+    out.attributes[name] = value;
+  }
+  if (!out.attributes.count("time")) throw std::runtime_error(path + " has no attribute 'time': not a snapshot");
+  out.time = out.attributes["time"];
+  out.field("position");
+  return out;
+}
+#else
+SnapshotData read_snapshot(const std::string& path) {
+  throw std::runtime_error("cannot read " + path + ": this build has no HDF5");
+}
 #endif
 
 }  // namespace isph

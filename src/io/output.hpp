@@ -2,6 +2,7 @@
 // Output files. Every file is written to a temporary name and renamed into place, so an
 // interrupted run never leaves a truncated file.
 #include <array>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -17,6 +18,10 @@ class CsvTable {
   CsvTable() = default;
   CsvTable(std::string path, std::vector<std::string> columns);
   void add_row(const std::vector<double>& values);  // throws if the size differs from the columns
+  // Adds the rows of an earlier table at `path` whose first column (time) is below `before`: a
+  // restarted run carries the history of the run it continues. Throws when the file cannot be read
+  // or its header differs from this table's columns. Returns the rows added.
+  std::size_t add_rows_before(const std::string& path, double before);
   void flush() const;
   std::size_t rows() const { return rows_.size(); }
 
@@ -52,6 +57,9 @@ struct SnapshotField {
   std::vector<double> data;
 };
 
+// Scalar attributes of a snapshot file besides its time (restart state such as accumulated work).
+using SnapshotAttributes = std::vector<std::pair<std::string, double>>;
+
 // HDF5 snapshots plus one XDMF index (`snapshots.xmf`) that ParaView opens directly. Without HDF5
 // (ISPH_HAVE_HDF5 undefined) available() is false and write() does nothing.
 class SnapshotWriter {
@@ -60,10 +68,11 @@ class SnapshotWriter {
   // dir: the output directory; snapshots go to dir/snapshots/.
   SnapshotWriter(std::string dir, int dimension);
   static bool available();
-  // Writes dir/snapshots/snapshot_NNNNN.h5 with dataset "position" (N x 3, z = 0 in 2D) and one
-  // dataset per field, then rewrites dir/snapshots/snapshots.xmf listing every snapshot so far.
+  // Writes dir/snapshots/snapshot_NNNNN.h5 with dataset "position" (N x 3, z = 0 in 2D), one
+  // dataset per field and the attributes "time" and `attributes`, then rewrites
+  // dir/snapshots/snapshots.xmf listing every snapshot so far.
   void write(double time, const std::vector<std::array<double, 3>>& positions,
-             const std::vector<SnapshotField>& fields);
+             const std::vector<SnapshotField>& fields, const SnapshotAttributes& attributes = {});
   int count() const { return static_cast<int>(times_.size()); }
 
  private:
@@ -74,5 +83,23 @@ class SnapshotWriter {
   std::vector<std::vector<std::pair<std::string, int>>> layouts_;  // field names and components
   std::vector<long long> sizes_;
 };
+
+// A snapshot file read back: its time, its scalar attributes (time included), and every dataset
+// ("position" among them) as a field of 1 or 3 components per particle.
+struct SnapshotData {
+  double time = 0;
+  std::map<std::string, double> attributes;
+  std::map<std::string, SnapshotField> fields;
+  std::size_t size() const;  // particles
+  // The field `name`; throws naming the file when it is missing.
+  const SnapshotField& field(const std::string& name) const;
+  // The row of each stable id (the "id" field), -1 for ids the snapshot lacks.
+  std::vector<long long> rows_by_id() const;
+  std::string path;
+};
+
+// Reads a file written by SnapshotWriter. Throws std::runtime_error when it cannot be read, and
+// when HDF5 is not built in.
+SnapshotData read_snapshot(const std::string& path);
 
 }  // namespace isph

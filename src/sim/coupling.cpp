@@ -174,6 +174,51 @@ void StructureCoupling<D>::explicit_step(Real t, Real dt, WcsphSolver<D>& fluid,
 }
 
 template <int D>
+bool StructureCoupling<D>::restore(const SnapshotData& snapshot, FluidParticles<D>& fluid) {
+  const auto own_velocity = snapshot.fields.find("structure_velocity");
+  const auto acceleration = snapshot.fields.find("structure_acceleration");
+  const bool complete = own_velocity != snapshot.fields.end() && acceleration != snapshot.fields.end();
+  const std::vector<long long> row = snapshot.rows_by_id();
+  const auto read = [&](const SnapshotField& field, long long r) {
+    Vec<D> v;
+    for (int d = 0; d < D; ++d) v[d] = field.data[3 * r + d];
+    return v;
+  };
+  StateVector<Vec<D>> x(x_old_), v(x_old_);
+  for (Index a = 0; a < fluid.size(); ++a) {
+    const Index s = fluid.structure_index()[a];
+    if (s < 0) continue;
+    x[s] = fluid.position()[a];
+    v_mean_[s] = fluid.velocity()[a];
+    v[s] = complete ? read(own_velocity->second, row[fluid.id()[a]]) : v_mean_[s];
+    a_guess_[s] = complete ? read(acceleration->second, row[fluid.id()[a]]) : Vec<D>::zero();
+  }
+  solver_.set_motion(x, v);
+  const auto work = snapshot.attributes.find("interaction_work");
+  interaction_work_ = work != snapshot.attributes.end() ? work->second : 0;
+  fluid.move_structure(solver_.position(), v_mean_, solver_.deformation_gradient());
+  return complete;
+}
+
+template <int D>
+void StructureCoupling<D>::add_snapshot_fields(const FluidParticles<D>& fluid, const std::vector<Index>& slot,
+                                               std::vector<SnapshotField>& fields) const {
+  const std::size_t n = slot.size();
+  SnapshotField velocity{"structure_velocity", 3, std::vector<double>(3 * n, 0.0)};
+  SnapshotField acceleration{"structure_acceleration", 3, std::vector<double>(3 * n, 0.0)};
+  for (std::size_t k = 0; k < n; ++k) {
+    const Index s = fluid.structure_index()[slot[k]];
+    if (s < 0) continue;
+    for (int d = 0; d < D; ++d) {
+      velocity.data[3 * k + d] = solver_.velocity()[s][d];
+      acceleration.data[3 * k + d] = a_guess_[s][d];
+    }
+  }
+  fields.push_back(std::move(velocity));
+  fields.push_back(std::move(acceleration));
+}
+
+template <int D>
 void StructureCoupling<D>::set_interaction() {
   for (std::size_t a = 0; a < interaction_.size(); ++a) interaction_[a] = (1.0 / density_[a]) * force_density_[a];  // Eq. 48
   solver_.set_interaction(interaction_);

@@ -94,6 +94,18 @@ class StructureCoupling {
   // Penetration diagnostics after a fluid step.
   void record_contact(FluidParticles<D>& fluid, PhaseTimer& timer);
 
+  // Continues from a snapshot (after fluid.restore): the structure's positions and the fluid's view of
+  // its velocity (the chord velocity) from the fluid particles, and from the snapshot's fields
+  // "structure_velocity" and "structure_acceleration" TLSPH's own velocity and the last step's a_s,
+  // the start of the next interface iterations. A snapshot without them (written before they existed)
+  // gives TLSPH the chord velocity and the iterations a zero start; returns false then. The
+  // quasi-Newton columns of earlier steps are not kept: the first steps converge without them.
+  bool restore(const SnapshotData& snapshot, FluidParticles<D>& fluid);
+  // What a restart needs besides the fluid's fields, per structure particle of the fluid (in the
+  // order of `slot`, zero on other particles): TLSPH's velocity and the last step's a_s.
+  void add_snapshot_fields(const FluidParticles<D>& fluid, const std::vector<Index>& slot,
+                           std::vector<SnapshotField>& fields) const;
+
   const TlsphSolver<D>& solver() const { return solver_; }
   long long substeps() const { return substeps_; }
   // Work done on the structure by the interaction force, integrated over the steps.

@@ -147,6 +147,12 @@ class FluidParticles {
   // order and stable ids.
   Index remove_fluid_outside(const Vec<D>& lo, const Vec<D>& hi, const Vec<D>& up, Real rim);
 
+  // Continues from a snapshot of the same case (a restart): positions, velocities, pressures, the time
+  // and the moving walls' work, matched by stable id. Fluid particles the snapshot lacks (removed
+  // after leaving the tank) are removed; a wall or structure particle it lacks, an id this case does
+  // not have, or a particle of another kind is an error naming the snapshot.
+  void restore(const SnapshotData& snapshot);
+
   // Structure particles follow the TLSPH solver: positions, velocities and deformation gradients,
   // indexed as in the TLSPH solver. The surface normals turn with F: n = F^{-T} N / |F^{-T} N|.
   // On the cuda device the three arrays must be device-visible (managed memory).

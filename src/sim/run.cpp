@@ -83,6 +83,21 @@ class RunFrame {
     out_interval_ = spec_.output.interval > 0 ? spec_.output.interval : steps * dt;
     next_out_ = out_interval_;
   }
+  // A restarted run: the schedules continue after t, and the probe and energy rows before t come from
+  // the earlier run's folder (the snapshot's folder's parent) when it has them.
+  void start_at(double t, const std::string& snapshot, bool complete) {
+    start_time_ = t;
+    restarted_ = true;
+    restart_.set("snapshot", snapshot).set("time", t).set("structure_state_complete", complete);
+    while (next_out_ <= t + 1e-12 * spec_.end_time) next_out_ += out_interval_;
+    while (next_snap_ <= t + 1e-12 * spec_.end_time) next_snap_ += snap_interval_;
+    const std::filesystem::path earlier = std::filesystem::absolute(snapshot).parent_path().parent_path();
+    if (std::filesystem::equivalent(earlier, result.out_dir))
+      throw std::runtime_error("restart: write the continued run to another folder than " + earlier.string() +
+                               " (--out), whose snapshots it would overwrite");
+    for (auto [table, name] : {std::pair{&probes, "probes.csv"}, std::pair{&energy, "energy.csv"}})
+      if (std::filesystem::exists(earlier / name)) table->add_rows_before((earlier / name).string(), t - 1e-12 * spec_.end_time);
+  }
   bool due_record(double t, bool last) {
     if (!(t >= next_out_ - 1e-12 * spec_.end_time) && !last) return false;
     while (next_out_ <= t + 1e-12 * spec_.end_time) next_out_ += out_interval_;
@@ -107,9 +122,10 @@ class RunFrame {
     if (!opt_.progress || seconds_since(last_progress_) < 2.0) return;
     last_progress_ = Clock::now();
     const double elapsed = seconds_since(wall0_);
+    const double done = (t - start_time_) / (spec_.end_time - start_time_);
     std::fprintf(stderr, "[%s] t = %.4g / %.4g s (%.0f%%)  %.0f steps/s  ETA %s\n", spec_.name.c_str(), t,
                  spec_.end_time, 100.0 * t / spec_.end_time, steps / std::max(1e-9, stepping_seconds),
-                 format_duration(elapsed / (t / spec_.end_time) - elapsed).c_str());
+                 format_duration(elapsed / done - elapsed).c_str());
   }
 
   void diverge(const std::string& message) {
@@ -138,6 +154,7 @@ class RunFrame {
         .set("performance", performance)
         .set("status", result.status)
         .set("message", result.message);
+    if (restarted_) summary.set("restart", restart_);
     write_file_atomically(result.out_dir + "/summary.json", summary.dump() + "\n");
     if (opt_.progress)
       std::fprintf(stderr, "[%s] %s: %s; %lld steps in %.2f s wall; output in %s\n", spec_.name.c_str(),
@@ -155,6 +172,9 @@ class RunFrame {
   Clock::time_point wall0_, last_progress_;
   bool write_snapshots_ = false;
   double out_interval_ = 0, next_out_ = 0, snap_interval_ = 0, next_snap_ = 0;
+  double start_time_ = 0;
+  bool restarted_ = false;
+  JsonObject restart_;  // the snapshot a restarted run continues from
 };
 
 JsonObject particle_counts(long long fluid, long long wall, long long structure) {
@@ -238,6 +258,7 @@ std::string structure_divergence_message(const Scene<D>& scene, Index bad, Real 
 
 template <int D>
 RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene, PhaseTimer& timer) {
+  if (!opt.restart.empty()) throw std::runtime_error("--restart continues runs with a fluid; this case has none");
   std::vector<std::string> columns;
   add_displacement_columns(scene, columns);
   RunFrame frame(spec, opt, columns, D);
@@ -319,7 +340,8 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& s
 // the others).
 template <int D>
 void write_fluid_snapshot(SnapshotWriter& writer, double t, const FluidParticles<D>& solver,
-                          const TlsphSolver<D>* structure) {
+                          const StructureCoupling<D>* coupling) {
+  const TlsphSolver<D>* structure = coupling ? &coupling->solver() : nullptr;
   const Index n = solver.size();
   std::vector<Index> slot(n);  // particles by stable id (ids of removed particles are missing)
   std::iota(slot.begin(), slot.end(), 0);
@@ -346,8 +368,13 @@ void write_fluid_snapshot(SnapshotWriter& writer, double t, const FluidParticles
   }
   std::vector<SnapshotField> fields{vel, p, kind, id};
   solver.add_snapshot_fields(slot, fields);
-  if (structure) fields.insert(fields.end(), {sxx, syy, sxy});
-  writer.write(t, pos, fields);
+  SnapshotAttributes restart_state{{"wall_work", solver.wall_work()}};
+  if (coupling) {
+    fields.insert(fields.end(), {sxx, syy, sxy});
+    coupling->add_snapshot_fields(solver, slot, fields);
+    restart_state.emplace_back("interaction_work", coupling->interaction_work());
+  }
+  writer.write(t, pos, fields, restart_state);
 }
 
 template <int D>
@@ -414,17 +441,33 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   };
   auto snapshot = [&](Real t) {
     timer.time("output", [&] {
-      write_fluid_snapshot(frame.snapshots, t, solver, coupling ? &coupling->solver() : nullptr);
+      write_fluid_snapshot(frame.snapshots, t, solver, coupling.get());
       frame.flush();
     });
   };
 
-  record(0);
-  if (frame.writes_snapshots()) snapshot(0);
+  Real t = 0;
+  if (!opt.restart.empty()) {
+    if (!isph) throw std::runtime_error("--restart continues ISPH runs; this case's fluid.model is " + spec.fluid.model);
+    timer.time("setup", [&] {
+      const SnapshotData state = read_snapshot(opt.restart);
+      solver.restore(state);
+      const bool complete = coupling ? coupling->restore(state, solver) : true;
+      t = state.time;
+      frame.start_at(t, opt.restart, complete);
+      if (opt.progress)
+        std::fprintf(stderr, "[%s] continuing from %s at t = %.6g s%s\n", spec.name.c_str(), opt.restart.c_str(), t,
+                     complete ? "" : " (a snapshot without the structure's own velocity and acceleration: TLSPH "
+                                     "starts from the chord velocity, the interface iterations from zero)");
+    });
+  }
+  const Real start_time = t;
+  record(t);
+  if (frame.writes_snapshots()) snapshot(t);
   long long step = 0, solves = 0, iterations = 0, max_iterations = 0, failures = 0, removed_total = 0;
   const Index initial_fluid = solver.fluid_count();
   double worst_residual = 0;
-  Real t = 0, first_dt = 0, first_removal = 0;
+  Real first_dt = 0, first_removal = 0;
   ContactRecord<D> wall_contact;  // fluid inside the walls, step by step
   const Real eps = 1e-12 * spec.end_time;
   while (t < spec.end_time - eps) {
@@ -513,7 +556,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
       .set("failures", failures);
   JsonObject perf;
   perf.set("threads", static_cast<long long>(omp_get_max_threads()))
-      .set("mean_fluid_dt", step > 0 ? t / step : 0.0)
+      .set("mean_fluid_dt", step > 0 ? (t - start_time) / step : 0.0)
       .set("fluid_particle_steps_per_s", stepping > 0 ? double(initial_fluid) * step / stepping : 0.0);
   if (coupling) perf.set("coupling", coupling->summary());
   if (wcsph) {

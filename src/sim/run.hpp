@@ -13,6 +13,9 @@ struct RunOptions {
   Device device = Device::cpu;
   int threads = 0;       // 0: OpenMP default
   bool progress = true;  // progress line on stderr
+  // A snapshot of an earlier run of the same case (ISPH fluid, alone or coupled) to continue from;
+  // the run starts at its time and writes to out_dir, which must not be the earlier run's folder.
+  std::string restart;
 };
 
 struct RunResult {

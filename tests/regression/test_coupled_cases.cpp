@@ -49,6 +49,48 @@ TEST(CoupledPlate, DeflectsDownwardsByTheStaticDeflectionWithoutPenetration) {
   EXPECT_EQ(json_number(s, "unconverged_steps"), 0) << s;
 }
 
+// A run continued from a snapshot (--restart) carries the earlier rows and follows the uninterrupted
+// run: the same time steps, and deflections within the interface iterations' tolerance (1e-3 of the
+// structure's acceleration; the quasi-Newton columns and the particle order start afresh, so the
+// iterations end elsewhere inside it). Restarting into the earlier run's folder, or from a snapshot of
+// another resolution, is refused with a message.
+TEST(CoupledPlate, RestartFollowsTheUninterruptedRun) {
+  const fs::path full = fresh_dir("coupled_plate_full"), continued = fresh_dir("coupled_plate_continued");
+  const std::string snapshots = " --set output.snapshots=true --set output.snapshot_interval=0.006";
+  const auto r = run_small_plate(full, snapshots);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const fs::path snapshot = full / "snapshots" / "snapshot_00001.h5";
+  if (!fs::exists(snapshot)) GTEST_SKIP() << "this build writes no snapshots (no HDF5)";
+  const auto c = run_small_plate(continued, snapshots + " --restart " + snapshot.string());
+  ASSERT_EQ(c.status, 0) << c.output;
+  const double t0 = json_number(read_file(continued / "summary.json"), "time");
+  EXPECT_GT(t0, 0.006);
+  EXPECT_LT(t0, 0.0065);
+
+  const auto a = read_csv(full / "probes.csv"), b = read_csv(continued / "probes.csv");
+  ASSERT_EQ(a.at("time").size(), b.at("time").size());
+  const auto& ua = a.at("midspan.uy");
+  const double peak = std::fabs(*std::min_element(ua.begin(), ua.end()));
+  std::size_t after = 0;
+  for (std::size_t k = 0; k < ua.size(); ++k) {
+    EXPECT_NEAR(a.at("time")[k], b.at("time")[k], 1e-12) << "row " << k;
+    if (a.at("time")[k] < t0 - 1e-9) {
+      EXPECT_EQ(ua[k], b.at("midspan.uy")[k]) << "carried row " << k;
+    } else {
+      ++after;
+      EXPECT_NEAR(ua[k], b.at("midspan.uy")[k], 1e-3 * peak) << "t = " << a.at("time")[k];
+    }
+  }
+  EXPECT_GT(after, 8u);
+
+  const auto same_folder = run_small_plate(full, " --restart " + snapshot.string());
+  EXPECT_NE(same_folder.status, 0);
+  EXPECT_NE(same_folder.output.find("another folder"), std::string::npos) << same_folder.output;
+  const auto other_case = run_small_plate(fresh_dir("coupled_plate_other"), " --set dx=0.01 --restart " + snapshot.string());
+  EXPECT_NE(other_case.status, 0);
+  EXPECT_NE(other_case.output.find("not a snapshot of this case"), std::string::npos) << other_case.output;
+}
+
 // A plate clamped over its whole length carries the weight of the water, 0.5 m deep over the 1 m span,
 // through the pairwise pressure force (within 3 %; docs/VALIDATION.md compares the gradient form).
 TEST(CoupledPlate, RigidPlateCarriesTheWaterWeight) {

@@ -287,3 +287,43 @@ TEST_F(OutputTest, SnapshotWriterRejectsInconsistentFields) {
   EXPECT_EQ(writer.count(), 0);
 #endif
 }
+
+TEST_F(OutputTest, SnapshotReadsBackWhatWasWritten) {
+#ifndef ISPH_HAVE_HDF5
+  GTEST_SKIP() << "built without HDF5";
+#else
+  SnapshotWriter writer(dir_.string(), 2);
+  const std::vector<std::array<double, 3>> positions{{0.5, 1.0, 0.0}, {2.5, -3.0, 0.0}, {1, 1, 0}};
+  writer.write(0.125, positions, {{"id", 1, {2, 0, 1}}, {"velocity", 3, {1, 2, 0, 3, 4, 0, 5, 6, 0}}},
+               {{"wall_work", -1.5}, {"interaction_work", 3.25}});
+  const SnapshotData s = read_snapshot((dir_ / "snapshots" / "snapshot_00000.h5").string());
+  EXPECT_EQ(s.time, 0.125);
+  EXPECT_EQ(s.attributes.at("wall_work"), -1.5);
+  EXPECT_EQ(s.attributes.at("interaction_work"), 3.25);
+  EXPECT_EQ(s.size(), 3u);
+  EXPECT_EQ(s.field("position").components, 3);
+  EXPECT_EQ(s.field("position").data, (std::vector<double>{0.5, 1.0, 0.0, 2.5, -3.0, 0.0, 1, 1, 0}));
+  EXPECT_EQ(s.field("velocity").data, (std::vector<double>{1, 2, 0, 3, 4, 0, 5, 6, 0}));
+  EXPECT_EQ(s.field("id").components, 1);
+  EXPECT_EQ(s.rows_by_id(), (std::vector<long long>{1, 2, 0}));
+  EXPECT_THROW(s.field("pressure"), std::runtime_error);
+  EXPECT_THROW(read_snapshot((dir_ / "snapshots" / "snapshot_00001.h5").string()), std::runtime_error);
+  std::ofstream(dir_ / "not_hdf5.h5") << "text";
+  EXPECT_THROW(read_snapshot((dir_ / "not_hdf5.h5").string()), std::runtime_error);
+#endif
+}
+
+TEST_F(OutputTest, CsvTableCarriesTheRowsBeforeATime) {
+  const fs::path earlier = dir_ / "earlier.csv";
+  std::ofstream(earlier) << "time,a\n0,1\n0.5,2\n1,3\n1.5,4\n";
+  CsvTable table((dir_ / "later.csv").string(), {"time", "a"});
+  EXPECT_EQ(table.add_rows_before(earlier.string(), 1.0), 2u);
+  table.add_row({1.0, 30});
+  table.flush();
+  EXPECT_EQ(read_text(dir_ / "later.csv"), "time,a\n0,1\n0.5,2\n1,30\n");
+  CsvTable other((dir_ / "other.csv").string(), {"time", "b"});
+  EXPECT_THROW(other.add_rows_before(earlier.string(), 1.0), std::runtime_error);
+  std::ofstream(dir_ / "broken.csv") << "time,a\n0,x\n";
+  EXPECT_THROW(table.add_rows_before((dir_ / "broken.csv").string(), 1.0), std::runtime_error);
+  EXPECT_THROW(table.add_rows_before((dir_ / "missing.csv").string(), 1.0), std::runtime_error);
+}
