@@ -451,6 +451,9 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
     if (!isph) throw std::runtime_error("--restart continues ISPH runs; this case's fluid.model is " + spec.fluid.model);
     timer.time("setup", [&] {
       const SnapshotData state = read_snapshot(opt.restart);
+      if (state.time >= spec.end_time * (1 - 1e-12))
+        throw std::runtime_error("restart: " + opt.restart + " is at t = " + std::to_string(state.time) +
+                                 " s, not before end_time; raise it with --set end_time=...");
       solver.restore(state);
       const bool complete = coupling ? coupling->restore(state, solver) : true;
       t = state.time;

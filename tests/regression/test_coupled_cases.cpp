@@ -52,8 +52,8 @@ TEST(CoupledPlate, DeflectsDownwardsByTheStaticDeflectionWithoutPenetration) {
 // A run continued from a snapshot (--restart) carries the earlier rows and follows the uninterrupted
 // run: the same time steps, and deflections within the interface iterations' tolerance (1e-3 of the
 // structure's acceleration; the quasi-Newton columns and the particle order start afresh, so the
-// iterations end elsewhere inside it). Restarting into the earlier run's folder, or from a snapshot of
-// another resolution, is refused with a message.
+// iterations end elsewhere inside it). Restarting into the earlier run's folder, past end_time, or from
+// a snapshot of another resolution is refused with a message.
 TEST(CoupledPlate, RestartFollowsTheUninterruptedRun) {
   const fs::path full = fresh_dir("coupled_plate_full"), continued = fresh_dir("coupled_plate_continued");
   const std::string snapshots = " --set output.snapshots=true --set output.snapshot_interval=0.006";
@@ -86,6 +86,9 @@ TEST(CoupledPlate, RestartFollowsTheUninterruptedRun) {
   const auto same_folder = run_small_plate(full, " --restart " + snapshot.string());
   EXPECT_NE(same_folder.status, 0);
   EXPECT_NE(same_folder.output.find("another folder"), std::string::npos) << same_folder.output;
+  const auto ended = run_small_plate(fresh_dir("coupled_plate_ended"), " --set end_time=0.005 --restart " + snapshot.string());
+  EXPECT_NE(ended.status, 0);
+  EXPECT_NE(ended.output.find("not before end_time"), std::string::npos) << ended.output;
   const auto other_case = run_small_plate(fresh_dir("coupled_plate_other"), " --set dx=0.01 --restart " + snapshot.string());
   EXPECT_NE(other_case.status, 0);
   EXPECT_NE(other_case.output.find("not a snapshot of this case"), std::string::npos) << other_case.output;
