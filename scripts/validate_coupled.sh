@@ -6,7 +6,7 @@
 # Writes every run under runs/ (OUT) and then the tables and plots of docs/VALIDATION.md:
 #   bash scripts/validate_coupled.sh            # the runs, then the report
 #   bash scripts/validate_coupled.sh report     # only the report, from existing runs
-# Runs already completed are skipped; THREADS sets --threads. The hydrostatic plate's PPE is solved by
+# Runs already completed are skipped, stopped ones continue from their last snapshot; THREADS sets --threads. The hydrostatic plate's PPE is solved by
 # hypre BoomerAMG-BiCGSTAB when the build has it (PLATE_BACKEND; 3.8 times faster than Eigen's ILUT there).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -21,9 +21,21 @@ PLATE=(--set fluid.ppe.backend=$PLATE_BACKEND --set output.snapshot_interval=0.0
 run() {  # run NAME CASE [--set ...]
   local name=$1 case=$2; shift 2
   if [ -f "$OUT/$name/summary.json" ]; then echo "skip $name (done)"; return; fi
-  echo "run  $name"
+  # A run that was stopped continues from its last snapshot (isph run --restart): its folder becomes
+  # NAME.partK, and NAME carries its rows.
+  local restart=() last
+  last=$(ls "$OUT/$name"/snapshots/snapshot_*.h5 2>/dev/null | tail -n 1 || true)
+  if [ -n "$last" ]; then
+    local k=1
+    while [ -e "$OUT/$name.part$k" ]; do k=$((k + 1)); done
+    mv "$OUT/$name" "$OUT/$name.part$k"
+    restart=(--restart "$OUT/$name.part$k/snapshots/$(basename "$last")")
+    echo "run  $name (continuing from $OUT/$name.part$k, $(basename "$last"))"
+  else
+    echo "run  $name"
+  fi
   # a diverged run (exit 3) is a result, not a failure of this script
-  "$ISPH" run "$case" --out "$OUT/$name" --threads "$THREADS" --quiet "$@" || [ $? -eq 3 ]
+  "$ISPH" run "$case" --out "$OUT/$name" --threads "$THREADS" --quiet "${restart[@]}" "$@" || [ $? -eq 3 ]
 }
 
 if [ "${1:-all}" != "report" ]; then
