@@ -471,10 +471,10 @@ class AggregationAmg {
     for (Array<Index>* v : {&w.rank, &w.first, &w.aggregate}) ensure(*v, n);
     ensure(w.cut, n);
     ensure(w.jacobi, entries(A));
-    const Array<double>& cut = w.cut;
+    Array<double>& cut = w.cut;
     Array<amg::State>&state = w.state, &near = w.near, &within_two = w.within_two;
     Array<Index>&rank = w.rank, &first = w.first, &aggregate = w.aggregate;
-    parallel_for(exec, n, amg::StrengthCut{A, amg::kStrengthThreshold, w.cut.data()});
+    parallel_for(exec, n, amg::StrengthCut{A, amg::kStrengthThreshold, cut.data()});
     parallel_for(exec, n, amg::MisStart{cut.data(), state.data()});
     // At least the largest undecided state is decided in each round.
     while (parallel_reduce(exec, n, Index{0}, amg::IsUndecided{state.data()}, IntegerSum{}) > 0) {

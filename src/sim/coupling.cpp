@@ -179,19 +179,14 @@ bool StructureCoupling<D>::restore(const SnapshotData& snapshot, FluidParticles<
   const auto acceleration = snapshot.fields.find("structure_acceleration");
   const bool complete = own_velocity != snapshot.fields.end() && acceleration != snapshot.fields.end();
   const std::vector<long long> row = snapshot.rows_by_id();
-  const auto read = [&](const SnapshotField& field, long long r) {
-    Vec<D> v;
-    for (int d = 0; d < D; ++d) v[d] = field.data[3 * r + d];
-    return v;
-  };
   StateVector<Vec<D>> x(x_old_), v(x_old_);
   for (Index a = 0; a < fluid.size(); ++a) {
     const Index s = fluid.structure_index()[a];
     if (s < 0) continue;
     x[s] = fluid.position()[a];
     v_mean_[s] = fluid.velocity()[a];
-    v[s] = complete ? read(own_velocity->second, row[fluid.id()[a]]) : v_mean_[s];
-    a_guess_[s] = complete ? read(acceleration->second, row[fluid.id()[a]]) : Vec<D>::zero();
+    v[s] = complete ? snapshot_vector<D>(own_velocity->second, row[fluid.id()[a]]) : v_mean_[s];
+    a_guess_[s] = complete ? snapshot_vector<D>(acceleration->second, row[fluid.id()[a]]) : Vec<D>::zero();
   }
   solver_.set_motion(x, v);
   const auto work = snapshot.attributes.find("interaction_work");

@@ -134,35 +134,28 @@ Index FluidParticles<D>::remove_fluid_outside(const Vec<D>& lo, const Vec<D>& hi
 
 template <int D>
 void FluidParticles<D>::restore(const SnapshotData& snapshot) {
-  const SnapshotField &ids = snapshot.field("id"), &kinds = snapshot.field("kind"), &x = snapshot.field("position"),
-                      &u = snapshot.field("velocity"), &p = snapshot.field("pressure");
-  Index max_id = 0;
-  for (Index a = 0; a < size(); ++a) max_id = std::max(max_id, id_[a]);
-  std::vector<Index> particle_of_id(max_id + 1, -1);
-  for (Index a = 0; a < size(); ++a) particle_of_id[id_[a]] = a;
-  std::vector<unsigned char> found(size(), 0);
+  const SnapshotField &kinds = snapshot.field("kind"), &x = snapshot.field("position"), &u = snapshot.field("velocity"),
+                      &p = snapshot.field("pressure");
+  const std::vector<long long> row = snapshot.rows_by_id();
   const auto mismatch = [&](const std::string& what) {
     return std::runtime_error("restart: " + snapshot.path + " is not a snapshot of this case: " + what);
   };
-  for (std::size_t r = 0; r < snapshot.size(); ++r) {
-    const double id = ids.data[r];
-    const Index a = id >= 0 && id <= max_id && id == std::floor(id) ? particle_of_id[static_cast<Index>(id)] : -1;
-    if (a < 0) throw mismatch("it has particle id " + std::to_string(static_cast<long long>(id)) + ", which this case does not");
-    if (kinds.data[r] != static_cast<double>(kind_[a]))
-      throw mismatch("particle id " + std::to_string(id_[a]) + " is of another kind there");
-    for (int d = 0; d < D; ++d) {
-      x_[a][d] = x.data[3 * r + d];
-      u_[a][d] = u.data[3 * r + d];
-    }
-    p_[a] = p.data[r];
-    found[a] = 1;
-  }
   StateVector<Index> keep(state_allocator<Index>());
   for (Index a = 0; a < size(); ++a) {
-    if (found[a]) keep.push_back(a);
-    else if (kind_[a] != FluidKind::fluid)
-      throw mismatch("it lacks the wall or structure particle id " + std::to_string(id_[a]));
+    const long long r = static_cast<std::size_t>(id_[a]) < row.size() ? row[id_[a]] : -1;
+    if (r < 0) {  // fluid the earlier run removed; every wall and structure particle must be there
+      if (kind_[a] != FluidKind::fluid) throw mismatch("it lacks the wall or structure particle id " + std::to_string(id_[a]));
+      continue;
+    }
+    if (kinds.data[r] != static_cast<double>(kind_[a]))
+      throw mismatch("particle id " + std::to_string(id_[a]) + " is of another kind there");
+    x_[a] = snapshot_vector<D>(x, r);
+    u_[a] = snapshot_vector<D>(u, r);
+    p_[a] = p.data[r];
+    keep.push_back(a);
   }
+  if (keep.size() != snapshot.size())
+    throw mismatch("it has " + std::to_string(snapshot.size() - keep.size()) + " particles whose ids this case lacks");
   if (const Index removed = size() - static_cast<Index>(keep.size()); removed > 0) {
     reorder(keep.data(), static_cast<Index>(keep.size()));
     fluid_count_ -= removed;

@@ -104,6 +104,14 @@ struct FluidStepReport {
   bool ppe_failed = false; // no backend converged
 };
 
+// The vector of a snapshot row (a field of 3 components, z dropped in 2D).
+template <int D>
+Vec<D> snapshot_vector(const SnapshotField& field, std::size_t row) {
+  Vec<D> v;
+  for (int d = 0; d < D; ++d) v[d] = field.data[3 * row + d];
+  return v;
+}
+
 template <int D>
 class FluidParticles {
  public:
