@@ -330,7 +330,7 @@ def case_without_reference(args, title, name, snap_times, xlim, ylim, p_max, siz
 
 def liao(args):
     case_without_reference(args, "Dam break on an elastic plate (Liao et al. 2015 set-up)", "liao",
-                           (0.05, 0.1, 0.15, 0.2, 0.3, 0.4), (-0.01, 0.81), (-0.01, 0.55), 4000, 0.2)
+                           (0.1, 0.2, 0.25, 0.3, 0.4, 0.5), (-0.01, 0.81), (-0.01, 0.55), 4000, 0.2)
 
 
 def sloshing(args):

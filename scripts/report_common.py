@@ -67,15 +67,27 @@ def read_probes(run, name="probes.csv"):
     return {n: data[:, k] for k, n in enumerate(names)}
 
 
-def snapshot_list(run):
-    """[(time, path)] of the snapshots up to the end of the run (later files are stale)."""
-    end = summary(run).get("simulated_time", math.inf) if os.path.exists(os.path.join(run, "summary.json")) else math.inf
+def snapshot_times(folder, end=math.inf):
+    """[(time, path)] of one folder's snapshots up to `end`."""
     out = []
-    for path in sorted(glob.glob(os.path.join(run, "snapshots", "snapshot_*.h5"))):
+    for path in sorted(glob.glob(os.path.join(folder, "snapshots", "snapshot_*.h5"))):
         with h5py.File(path, "r") as h:
             t = float(h.attrs["time"])
         if t <= end * (1 + 1e-9):
             out.append((t, path))
+    return out
+
+
+def snapshot_list(run):
+    """[(time, path)] of the snapshots up to the end of the run (later files are stale). A run continued
+    with --restart whose earlier parts were moved to RUN.part1, RUN.part2, ... (scripts/validate_coupled.sh)
+    also lists their snapshots before its own first."""
+    end = summary(run).get("simulated_time", math.inf) if os.path.exists(os.path.join(run, "summary.json")) else math.inf
+    parts = sorted(glob.glob(run + ".part*"), key=lambda p: int(p.rsplit(".part", 1)[1]) if p.rsplit(".part", 1)[1].isdigit() else -1)
+    out = snapshot_times(run, end)
+    for part in reversed(parts):
+        first = out[0][0] if out else math.inf
+        out = [s for s in snapshot_times(part) if s[0] < first * (1 - 1e-9)] + out
     return out
 
 

@@ -2,7 +2,7 @@
 # Coupled ISPH-TLSPH validation runs (issue: coupled FSI). On 2 cores: the hydrostatic plate at T/dx = 4
 # for 0.5 s takes about 45 minutes, the elastic gate at T/dx = 4 for 0.4 s about an hour, the Walhorn
 # obstacle about 20 minutes and the rolling tank at T/dx = 2 (0.4 s) about an hour; T/dx = 8 and 12 on the plate take
-# many hours (PLATE_FINE=1 runs them), the Liao plate about 2 hours (LIAO=1). The gate's stability variants: scripts/gate_stability.sh.
+# many hours (PLATE_FINE=1 runs them), the Liao plate about 10 hours (LIAO=1). The gate's stability variants: scripts/gate_stability.sh.
 # Writes every run under runs/ (OUT) and then the tables and plots of docs/VALIDATION.md:
 #   bash scripts/validate_coupled.sh            # the runs, then the report
 #   bash scripts/validate_coupled.sh report     # only the report, from existing runs
@@ -53,7 +53,7 @@ if [ "${1:-all}" != "report" ]; then
     wait
     run plate_T10 cases/hydrostatic_plate.toml --set dx=0.005 "${PLATE[@]}"
   fi
-  if [ -n "${LIAO:-}" ]; then  # the Liao plate at dx = 1 mm, 0.6 s: about 2 hours of one core (estimated)
+  if [ -n "${LIAO:-}" ]; then  # the Liao plate at dx = 1 mm, 0.6 s: about 2 hours of one core to the impact at 0.24 s, then about 8 (rates measured beside a second run)
     run liao cases/baffle_liao.toml
   fi
 fi
