@@ -4,6 +4,7 @@ import glob
 import json
 import math
 import os
+import re
 import sys
 
 import h5py
@@ -83,9 +84,10 @@ def snapshot_list(run):
     with --restart whose earlier parts were moved to RUN.part1, RUN.part2, ... (scripts/validate_coupled.sh)
     also lists their snapshots before its own first."""
     end = summary(run).get("simulated_time", math.inf) if os.path.exists(os.path.join(run, "summary.json")) else math.inf
-    parts = sorted(glob.glob(run + ".part*"), key=lambda p: int(p.rsplit(".part", 1)[1]) if p.rsplit(".part", 1)[1].isdigit() else -1)
+    parts = {int(m.group(1)): p for p in glob.glob(run + ".part*")
+             if os.path.isdir(p) and (m := re.fullmatch(r".*\.part(\d+)", p))}
     out = snapshot_times(run, end)
-    for part in reversed(parts):
+    for part in (parts[k] for k in sorted(parts, reverse=True)):
         first = out[0][0] if out else math.inf
         out = [s for s in snapshot_times(part) if s[0] < first * (1 - 1e-9)] + out
     return out
