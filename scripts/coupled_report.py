@@ -309,10 +309,35 @@ def walhorn(args):
     t, ux = d["time"], d["tip.ux"]
     print(f"Peak tip u_x: {fmt(ux.max() * 1e3, 3)} mm at t = {fmt(t[np.argmax(ux)], 3)} s (references: 45-48 mm at "
           f"0.22-0.26 s).\n")
-    table(["component", "reference", "RMSE over the run [mm]", "reference peak [mm]", "at t [s]"], rows)
+    # RMSE over the first swing (to 0.283 s), up to the returning wave (0.55 s) and over the whole run.
+    windows = (0.283, 0.55, t[-1])
+    window_rows = []
+    for (path, label, _, shift), row in zip(refs, rows):
+        ref = read_reference(path)
+        ref[:, 0] += shift
+        window_rows.append([label] + [fmt(rmse_against(t[t <= end], ux[t <= end], ref) * 1e3, 3) for end in windows]
+                           + row[3:])
+    table(["reference"] + [f"RMSE of u_x to {fmt(end, 3)} s [mm]" for end in windows] + ["reference peak [mm]", "at t [s]"],
+          window_rows)
     describe_end(run)
     snapshots(args, run, (0.05, 0.1, 0.15, 0.2, 0.25, 0.3), (-0.01, 0.6), (-0.01, 0.35), 3000,
               "coupled_walhorn_snapshots.png")
+    walhorn_energy(args, run)
+
+
+def walhorn_energy(args, run):
+    """Total energy of the case as shipped (Xu/Lind shifting) against the same case with OPS (`walhorn_ops`,
+    finished or not), each relative to its initial value."""
+    fig, ax = plt.subplots(figsize=(8, 4))
+    for folder, label in ((run, "shifting xu (the case)"), (os.path.join(args.runs, "walhorn_ops"), "shifting ops")):
+        if not os.path.exists(os.path.join(folder, "energy.csv")):
+            continue
+        e = read_probes(folder, "energy.csv")
+        change = e["total"] - e["total"][0]
+        ax.plot(e["time"], change, lw=1.2, label=label)
+        print(f"- Total energy, {label}: initial {fmt(e['total'][0], 4)} J/m; largest gain {fmt(change.max(), 3)} J/m; "
+              f"{fmt(e['total'][-1], 4)} J/m at t = {fmt(e['time'][-1], 3)} s.")
+    save_history(fig, ax, args, "total energy − initial [J/m]", "coupled_walhorn_energy.png")
 
 
 def case_without_reference(args, title, name, snap_times, xlim, ylim, p_max, size):
