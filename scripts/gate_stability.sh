@@ -3,7 +3,7 @@
 # its own resolution (T/dx = 4) to t = 0.06 s, while the gate opens (about 15 minutes per run on one
 # core; at T/dx = 2 even the defaults fail within 0.025 s: fluid goes through a gate two particles
 # thick; END_TIME and DX override), with
-#   reference   the case's defaults: no FSI shifting layer (docs/VALIDATION.md section 14), substeps from
+#   reference   the case's defaults: Xu/Lind shifting, no FSI shifting layer (docs/VALIDATION.md section 14), substeps from
 #               the structure's stability limit, RK4, interface iterations;
 #   fsi_on      the FSI shifting layer on (the default of the case before 2026-12-01);
 #   seed_ratio  100 structure substeps per fluid step (the seed's fixed ratio);
