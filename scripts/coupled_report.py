@@ -12,6 +12,7 @@ import argparse
 import math
 import os
 import sys
+import tomllib
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -259,9 +260,10 @@ def run_or_partial(args, name):
     return run
 
 
-def tip_history(args, run, refs, label, name, components=("x",)):
+def tip_history(args, run, refs, label, name, components=("x",), windows=(math.inf,)):
     """The probe `tip` against reference curves {component: [(path, label, marker, time shift)]}; returns the
-    probes and the rows (component, reference, RMSE, reference peak and its time)."""
+    probes and the rows (component, reference, the RMSE up to each time in `windows` (default: over the
+    run), reference peak and its time)."""
     d = read_probes(run)
     t = d["time"]
     fig, axes = plt.subplots(1, len(components), figsize=(5.5 * len(components), 4), squeeze=False)
@@ -273,8 +275,8 @@ def tip_history(args, run, refs, label, name, components=("x",)):
             ref = read_reference(path)
             ref[:, 0] += shift
             ax.plot(ref[:, 0], ref[:, 1] * 1e3, marker, ms=3, mfc="none", label=ref_label)
-            rows.append([comp, ref_label, fmt(rmse_against(t, u, ref) * 1e3, 3), fmt(ref[:, 1].max() * 1e3, 3),
-                         fmt(ref[np.argmax(ref[:, 1]), 0], 3)])
+            rows.append([comp, ref_label] + [fmt(rmse_against(t[t <= end], u[t <= end], ref) * 1e3, 3) for end in windows]
+                        + [fmt(ref[:, 1].max() * 1e3, 3), fmt(ref[np.argmax(ref[:, 1]), 0], 3)])
         ax.set_xlabel("t [s]")
         ax.set_ylabel(f"tip u_{comp} [mm]")
         ax.grid(alpha=0.3)
@@ -304,21 +306,15 @@ def walhorn(args):
     folder = os.path.join(args.reference, "walhorn_2005_dam_break_elastic_obstacle")
     refs = reference_curves(folder, "sun_2019_dam_breaking_flow_impacting_an_elastic_plate_x_displacement_{}.csv",
                             WALHORN_REFS)
+    # RMSE over the first swing (to 0.283 s), up to the returning wave (0.55 s) and over the whole run.
+    windows = (0.283, 0.55, math.inf)
     d, rows = tip_history(args, run, {"x": refs},
-                          "ISPH-TLSPH (this code), dx = 2.4 mm", "coupled_walhorn_tip.png")
+                          "ISPH-TLSPH (this code), dx = 2.4 mm", "coupled_walhorn_tip.png", windows=windows)
     t, ux = d["time"], d["tip.ux"]
     print(f"Peak tip u_x: {fmt(ux.max() * 1e3, 3)} mm at t = {fmt(t[np.argmax(ux)], 3)} s (references: 45-48 mm at "
           f"0.22-0.26 s).\n")
-    # RMSE over the first swing (to 0.283 s), up to the returning wave (0.55 s) and over the whole run.
-    windows = (0.283, 0.55, t[-1])
-    window_rows = []
-    for (path, label, _, shift), row in zip(refs, rows):
-        ref = read_reference(path)
-        ref[:, 0] += shift
-        window_rows.append([label] + [fmt(rmse_against(t[t <= end], ux[t <= end], ref) * 1e3, 3) for end in windows]
-                           + row[3:])
-    table(["reference"] + [f"RMSE of u_x to {fmt(end, 3)} s [mm]" for end in windows] + ["reference peak [mm]", "at t [s]"],
-          window_rows)
+    table(["reference"] + [f"RMSE of u_x to {fmt(min(end, t[-1]), 3)} s [mm]" for end in windows]
+          + ["reference peak [mm]", "at t [s]"], [row[1:] for row in rows])
     describe_end(run)
     snapshots(args, run, (0.05, 0.1, 0.15, 0.2, 0.25, 0.3), (-0.01, 0.6), (-0.01, 0.35), 3000,
               "coupled_walhorn_snapshots.png")
@@ -326,12 +322,14 @@ def walhorn(args):
 
 
 def walhorn_energy(args, run):
-    """Total energy of the case as shipped (Xu/Lind shifting) against the same case with OPS (`walhorn_ops`,
-    finished or not), each relative to its initial value."""
+    """Total energy of the case as shipped against the same case with OPS shifting (`walhorn_ops`, finished
+    or not), each relative to its initial value and labelled with the shifting it ran."""
     fig, ax = plt.subplots(figsize=(8, 4))
-    for folder, label in ((run, "shifting xu (the case)"), (os.path.join(args.runs, "walhorn_ops"), "shifting ops")):
+    for folder in (run, os.path.join(args.runs, "walhorn_ops")):
         if not os.path.exists(os.path.join(folder, "energy.csv")):
             continue
+        with open(os.path.join(folder, "case.resolved.toml"), "rb") as f:
+            label = "shifting " + tomllib.load(f)["fluid"]["shifting"]["type"]
         e = read_probes(folder, "energy.csv")
         change = e["total"] - e["total"][0]
         ax.plot(e["time"], change, lw=1.2, label=label)
