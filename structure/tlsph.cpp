@@ -114,7 +114,7 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
   psi_.assign(n_, 0);
   cell_moment_.resize(n_);
   for (Index a = 0; a < n_; ++a) cell_moment_[a] = std::pow(volume_[a], 2.0 / D) / 12;
-  for (auto* v : {&x0_, &v0_, &x_sum_, &v_sum_, &saved_x_, &saved_v_, &saved_acc_}) v->assign(n_, Vec<D>::zero());
+  for (auto* v : {&x0_, &v0_, &x_sum_, &v_sum_, &saved_x_, &saved_v_}) v->assign(n_, Vec<D>::zero());
   if (exec_.device == Device::cuda) {
     make_state_device_visible();
     graph_ = std::make_unique<LaunchGraph>();
@@ -130,7 +130,7 @@ void TlsphSolver<D>::make_state_device_visible() {
   make_device_visible(fixed_);
   make_device_visible(nbr_offset_), make_device_visible(nbr_);
   for (auto* v : {&load_acc_, &interaction_, &X_, &x_, &v_, &acc_, &cgrad_, &rcgrad_, &cgrad_sum_, &x0_, &v0_,
-                  &x_sum_, &v_sum_, &saved_x_, &saved_v_, &saved_acc_})
+                  &x_sum_, &v_sum_, &saved_x_, &saved_v_})
     make_device_visible(*v);
   for (auto* m : {&F_, &stress_, &strain_, &gradient_stress_}) make_device_visible(*m);
 }
@@ -296,22 +296,25 @@ Real TlsphSolver<D>::potential_energy() const {
 template <int D>
 void TlsphSolver<D>::set_interaction(std::span<const Vec<D>> acc) {
   if (static_cast<Index>(acc.size()) != n_) throw std::invalid_argument("set_interaction: one value per particle");
+  // Velocity-Verlet's next opening kick reuses acc_, evaluated with the old field. The interaction is
+  // one additive term of acc, so acc_ is moved to the new field exactly, without a new evaluation.
+  if (verlet_started_)
+    for (Index a = 0; a < n_; ++a) acc_[a] += interaction_.empty() ? acc[a] : acc[a] - interaction_[a];
   interaction_.resize(acc.size());  // allocated once: a recorded graph keeps addressing it
   std::copy(acc.begin(), acc.end(), interaction_.begin());
 }
 
 template <int D>
 void TlsphSolver<D>::save_state() {
-  parallel_for(waiting_exec(), n_,
-               CopyMotion<D>{x_.data(), v_.data(), acc_.data(), saved_x_.data(), saved_v_.data(), saved_acc_.data()});
-  saved_verlet_started_ = verlet_started_;
+  parallel_for(waiting_exec(), n_, CopyMotion<D>{x_.data(), v_.data(), saved_x_.data(), saved_v_.data()});
 }
 
 template <int D>
 void TlsphSolver<D>::restore_state() {
-  parallel_for(waiting_exec(), n_,
-               CopyMotion<D>{saved_x_.data(), saved_v_.data(), saved_acc_.data(), x_.data(), v_.data(), acc_.data()});
-  verlet_started_ = saved_verlet_started_;
+  parallel_for(waiting_exec(), n_, CopyMotion<D>{saved_x_.data(), saved_v_.data(), x_.data(), v_.data()});
+  // The state is repeated under another interaction field: Verlet's opening kick needs the
+  // acceleration at the restored state with the current field, so it is evaluated afresh.
+  verlet_started_ = false;
 }
 
 template <int D>

@@ -93,8 +93,8 @@ class TlsphSolver {
   void use_graphs(bool on) { use_graphs_ = on; }
   // Power of the interaction acceleration on the current velocities.
   Real interaction_power() const;
-  // Keeps the current state (positions, velocities, integrator state) and goes back to it, so that a
-  // coupled step can be repeated with another interaction field.
+  // Keeps the current positions and velocities and goes back to them, so that a coupled step can be
+  // repeated with another interaction field.
   void save_state();
   void restore_state();
   // Takes positions and velocities from elsewhere (a restart), indexed as this solver's particles,
@@ -161,8 +161,7 @@ class TlsphSolver {
   StateVector<Real> psi_;
   StateVector<Vec<D>> x0_, v0_, x_sum_, v_sum_;  // integrator scratch
   bool verlet_started_ = false;
-  StateVector<Vec<D>> saved_x_, saved_v_, saved_acc_;
-  bool saved_verlet_started_ = false;
+  StateVector<Vec<D>> saved_x_, saved_v_;
   long long pair_evaluations_ = 0;
   // the device's RK4 step as a graph, and what it was recorded for
   std::unique_ptr<LaunchGraph> graph_;

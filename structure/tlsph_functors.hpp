@@ -284,19 +284,16 @@ struct StartRungeKutta {
   }
 };
 
-// The state kept for a repeated coupled step (save_state, restore_state): to = from for x, v, acc.
+// The state kept for a repeated coupled step (save_state, restore_state): to = from for x and v.
 template <int D>
 struct CopyMotion {
   const Vec<D>* from_x;
   const Vec<D>* from_v;
-  const Vec<D>* from_acc;
   Vec<D>* to_x;
   Vec<D>* to_v;
-  Vec<D>* to_acc;
   ISPH_HD void operator()(Index a) const {
     to_x[a] = from_x[a];
     to_v[a] = from_v[a];
-    to_acc[a] = from_acc[a];
   }
 };
 
