@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""The beams of cases/cantilever.toml and cases/hydrostatic_plate_dry.toml as 2D continua, by finite
-elements: a check, by another method, of what the particle solution converges to (docs/VALIDATION.md
+"""The beams of cases/cantilever.toml, cases/hydrostatic_plate_dry.toml and cases/liao_plate_dry.toml as
+2D continua, by finite elements: a check, by another method, of what the particle solution converges to (docs/VALIDATION.md
 sections 1 and 13).
 
 The references of ../shared/reference/README.md are beam theories: the elastica (an inextensible,
@@ -16,10 +16,15 @@ element edge).
   plate       L = 1 (between the clamps' faces), T = 0.05, E = 67.5 GPa, nu = 0.34, plane strain, rho = 2700;
               u = 0 on x = 0 and x = L; the water's pressure rho_w g H = 19,620 Pa on the top face and the
               plate's weight (g = 9.81). Prints u at mid-span, mid-thickness, the midspan probe.
+  liao        the elastic plate of cases/baffle_liao.toml: L = 0.09, T = 0.004, E = 3.5 MPa, nu = 0.45, plane
+              strain, weightless; u = 0 on x = 0; a uniform traction on one long face (--load, Pa; dead,
+              normal to the undeformed face). Prints u at the free end's centre, the tip probe. The
+              beam's x is the plate's height and the load's direction its -y.
 
     /usr/bin/python3 scripts/fe_beam.py cantilever --elements 40 4            # elastica load, 1.75e6 N/m
     /usr/bin/python3 scripts/fe_beam.py cantilever --elements 40 4 --load 1.75e4
     /usr/bin/python3 scripts/fe_beam.py plate --elements 160 8
+    /usr/bin/python3 scripts/fe_beam.py liao --elements 90 4 --load 400 --steps 40
 
 Dense linear algebra (numpy only): 80 x 8 elements (5,474 unknowns) takes a few minutes.
 """
@@ -50,6 +55,10 @@ def cantilever(load):
 def plate(_load):
     return Beam(1.0, 0.05, 67.5e9, 0.34, "strain", density=2700.0, clamped_ends=(0, 1),
                 top_pressure=1000.0 * 9.81 * 2.0, probe_x=0.5)
+
+
+def liao(load):
+    return Beam(0.09, 0.004, 3.5e6, 0.45, "strain", top_pressure=load, probe_x=0.09)
 
 
 def lagrange(s):
@@ -136,12 +145,13 @@ def solve(beam, nx, ny, steps):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("beam", choices=("cantilever", "plate"))
+    parser.add_argument("beam", choices=("cantilever", "plate", "liao"))
     parser.add_argument("--elements", type=int, nargs=2, default=[40, 4], metavar=("NX", "NY"))
-    parser.add_argument("--load", type=float, default=1.75e6, help="cantilever: end load per unit depth [N/m]")
+    parser.add_argument("--load", type=float, default=1.75e6,
+                        help="cantilever: end load per unit depth [N/m]; liao: traction on the face [Pa]")
     parser.add_argument("--steps", type=int, default=10, help="load steps")
     a = parser.parse_args()
-    beam = (cantilever if a.beam == "cantilever" else plate)(a.load)
+    beam = {"cantilever": cantilever, "plate": plate, "liao": liao}[a.beam](a.load)
     if a.elements[0] % 2 or (beam.probe_x / beam.length * 2 * a.elements[0]) % 1:
         parser.error("the probe must lie on a node: NX must be even")
     ux, uy = solve(beam, a.elements[0], a.elements[1], a.steps)
