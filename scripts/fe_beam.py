@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """The beams of cases/cantilever.toml, cases/hydrostatic_plate_dry.toml and cases/liao_plate_dry.toml as
-2D continua, by finite elements: a check, by another method, of what the particle solution converges to (docs/VALIDATION.md
-sections 1 and 13).
+2D continua, by finite elements: a check, by another method, of what the particle solution converges
+to (docs/VALIDATION.md sections 1, 13 and 19).
 
 The references of ../shared/reference/README.md are beam theories: the elastica (an inextensible,
 shear-rigid line) for the cantilever, thin-plate theory for the clamped plate. The solver models a 2D
@@ -24,7 +24,7 @@ element edge).
     /usr/bin/python3 scripts/fe_beam.py cantilever --elements 40 4            # elastica load, 1.75e6 N/m
     /usr/bin/python3 scripts/fe_beam.py cantilever --elements 40 4 --load 1.75e4
     /usr/bin/python3 scripts/fe_beam.py plate --elements 160 8
-    /usr/bin/python3 scripts/fe_beam.py liao --elements 90 4 --load 400 --steps 40
+    /usr/bin/python3 scripts/fe_beam.py liao --elements 60 3 --load 400 --steps 20    # about 3 minutes
 
 Dense linear algebra (numpy only): 80 x 8 elements (5,474 unknowns) takes a few minutes.
 """
