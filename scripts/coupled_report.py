@@ -351,9 +351,35 @@ def case_without_reference(args, title, name, snap_times, xlim, ylim, p_max, siz
     return run
 
 
+LIAO_COLUMNS = (("liao", "water column 0.4 m high (the case)"),
+                ("liao_H02", "water column 0.2 m high (SPHinXsys, Zhang et al. 2021)"))
+
+
 def liao(args):
     case_without_reference(args, "Dam break on an elastic plate (Liao et al. 2015 set-up)", "liao",
                            (0.1, 0.2, 0.25, 0.3, 0.4, 0.5), (-0.01, 0.81), (-0.01, 0.55), 4000, 0.2)
+    case_without_reference(args, "Dam break on an elastic plate, water column 0.2 m high", "liao_H02",
+                           (0.2, 0.25, 0.3, 0.35, 0.4, 0.45), (-0.01, 0.81), (-0.01, 0.3), 2000, 0.2)
+    liao_columns(args)
+
+
+def liao_columns(args):
+    """The plate's tip under the two column heights that public set-ups of the case use."""
+    runs = [(run_or_partial(args, name), label) for name, label in LIAO_COLUMNS]
+    runs = [(run, label) for run, label in runs if run is not None]
+    if len(runs) < 2:
+        return
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4), sharex=True)
+    for run, label in runs:
+        d = read_probes(run)
+        for ax, comp in zip(axes, ("x", "y")):
+            ax.plot(d["time"], d[f"tip.u{comp}"] * 1e3, label=label)
+    for ax, comp in zip(axes, ("x", "y")):
+        ax.set_xlabel("t [s]")
+        ax.set_ylabel(f"tip u_{comp} [mm]")
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=8)
+    save(fig, args, "coupled_liao_columns.png")
 
 
 def sloshing(args):

@@ -56,6 +56,9 @@ if [ "${1:-all}" != "report" ]; then
   fi
   if [ -n "${LIAO:-}" ]; then  # the Liao plate at dx = 1 mm, 0.6 s: about 2 hours of one core to the impact at 0.24 s, then about 8 (rates measured beside a second run)
     run liao cases/baffle_liao.toml
+    # the column 0.2 m high of SPHinXsys's example and Zhang et al. 2021 (docs/VALIDATION.md section 19)
+    run liao_H02 cases/baffle_liao.toml --set 'bodies.water.shape={type="rectangle", min=[0.0,0.0], max=[0.2,0.2]}' \
+      --set output.snapshot_interval=0.01
   fi
 fi
 /usr/bin/python3 scripts/coupled_report.py --runs "$OUT"
