@@ -260,10 +260,10 @@ def run_or_partial(args, name):
     return run
 
 
-def tip_history(args, run, refs, label, name, components=("x",), windows=(math.inf,)):
-    """The probe `tip` against reference curves {component: [(path, label, marker, time shift)]}; returns the
-    probes and the rows (component, reference, the RMSE up to each time in `windows` (default: over the
-    run), reference peak and its time)."""
+def tip_history(args, run, refs, label, name, components=("x",), windows=(math.inf,), others=()):
+    """The probe `tip` against reference curves {component: [(path, label, marker, time shift)]} and beside
+    the tips of other runs [(run, label)]; returns the probes and the rows (component, reference, the RMSE
+    up to each time in `windows` (default: over the run), reference peak and its time)."""
     d = read_probes(run)
     t = d["time"]
     fig, axes = plt.subplots(1, len(components), figsize=(5.5 * len(components), 4), squeeze=False)
@@ -271,6 +271,9 @@ def tip_history(args, run, refs, label, name, components=("x",), windows=(math.i
     for comp, ax in zip(components, axes[0]):
         u = d[f"tip.u{comp}"]
         ax.plot(t, u * 1e3, "k-", lw=1.5, label=label)
+        for other, other_label in others:
+            o = read_probes(other)
+            ax.plot(o["time"], o[f"tip.u{comp}"] * 1e3, lw=1.2, label=other_label)
         for path, ref_label, marker, shift in refs.get(comp, ()):
             ref = read_reference(path)
             ref[:, 0] += shift
@@ -366,20 +369,9 @@ def liao(args):
 def liao_columns(args):
     """The plate's tip under the two column heights that public set-ups of the case use."""
     runs = [(run_or_partial(args, name), label) for name, label in LIAO_COLUMNS]
-    runs = [(run, label) for run, label in runs if run is not None]
-    if len(runs) < 2:
-        return
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4), sharex=True)
-    for run, label in runs:
-        d = read_probes(run)
-        for ax, comp in zip(axes, ("x", "y")):
-            ax.plot(d["time"], d[f"tip.u{comp}"] * 1e3, label=label)
-    for ax, comp in zip(axes, ("x", "y")):
-        ax.set_xlabel("t [s]")
-        ax.set_ylabel(f"tip u_{comp} [mm]")
-        ax.grid(alpha=0.3)
-    axes[0].legend(fontsize=8)
-    save(fig, args, "coupled_liao_columns.png")
+    if all(run is not None for run, _ in runs):
+        (run, label), others = runs[0], runs[1:]
+        tip_history(args, run, {}, label, "coupled_liao_columns.png", ("x", "y"), others=others)
 
 
 def sloshing(args):

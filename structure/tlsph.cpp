@@ -296,12 +296,13 @@ Real TlsphSolver<D>::potential_energy() const {
 template <int D>
 void TlsphSolver<D>::set_interaction(std::span<const Vec<D>> acc) {
   if (static_cast<Index>(acc.size()) != n_) throw std::invalid_argument("set_interaction: one value per particle");
+  interaction_.resize(acc.size());  // allocated once (zero): a recorded graph keeps addressing it
   // Velocity-Verlet's next opening kick reuses acc_, evaluated with the old field. The interaction is
   // one additive term of acc, so acc_ is moved to the new field exactly, without a new evaluation.
-  if (verlet_started_)
-    for (Index a = 0; a < n_; ++a) acc_[a] += interaction_.empty() ? acc[a] : acc[a] - interaction_[a];
-  interaction_.resize(acc.size());  // allocated once: a recorded graph keeps addressing it
-  std::copy(acc.begin(), acc.end(), interaction_.begin());
+  for (Index a = 0; a < n_; ++a) {
+    if (verlet_started_) acc_[a] += acc[a] - interaction_[a];
+    interaction_[a] = acc[a];
+  }
 }
 
 template <int D>
