@@ -69,6 +69,7 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
   x_ = X_;
   if (motion_.empty()) motion_.assign(n_, -1);
   acc_.assign(n_, Vec<D>::zero());
+  contact_offset_.assign(static_cast<std::size_t>(n_) + 1, 0);
   mass_.resize(n_);
   for (Index a = 0; a < n_; ++a) {
     mass_[a] = materials_[material_[a]].density * volume_[a];
@@ -129,6 +130,7 @@ void TlsphSolver<D>::make_state_device_visible() {
   make_device_visible(material_);
   make_device_visible(fixed_);
   make_device_visible(nbr_offset_), make_device_visible(nbr_);
+  make_device_visible(contact_offset_), make_device_visible(contact_point_), make_device_visible(contact_radius_);
   for (auto* v : {&load_acc_, &interaction_, &X_, &x_, &v_, &acc_, &cgrad_, &rcgrad_, &cgrad_sum_, &x0_, &v0_,
                   &x_sum_, &v_sum_, &saved_x_, &saved_v_})
     make_device_visible(*v);
@@ -157,6 +159,7 @@ TlsphView<D> TlsphSolver<D>::view() {
   s.loads = static_cast<int>(loads_.size());
   s.gravity = gravity_;
   s.interaction = interaction_.empty() ? nullptr : interaction_.data();
+  s.obstacles = obstacles();
   s.damping = damping_;
   s.hourglass = hourglass_;
   s.quadratic = quadratic_;
@@ -227,11 +230,14 @@ void TlsphSolver<D>::step_rk4(Real t, Real dt) {
     return;
   }
   // The arrays stay in place from step to step; only the interaction field is allocated late (its
-  // first set_interaction).
-  if (!graph_->recorded() || dt != recorded_dt_ || interaction_.data() != recorded_interaction_) {
+  // first set_interaction), and the obstacle candidates move when they outgrow their allocation.
+  if (!graph_->recorded() || dt != recorded_dt_ || interaction_.data() != recorded_interaction_ ||
+      contact_point_.data() != recorded_contact_point_ || contact_radius_.data() != recorded_contact_radius_) {
     graph_->record([&](const Exec& exec) { rk4_launches(exec, t, dt); });
     recorded_dt_ = dt;
     recorded_interaction_ = interaction_.data();
+    recorded_contact_point_ = contact_point_.data();
+    recorded_contact_radius_ = contact_radius_.data();
   }
   graph_->replay();
   graph_->synchronize();
@@ -286,6 +292,29 @@ Real TlsphSolver<D>::strain_energy() const {
 }
 
 template <int D>
+Real TlsphSolver<D>::contact_energy() const {
+  Real e = 0;
+  for (Index a = 0; a < n_; ++a)
+    for_each_wall_overlap(obstacles(), a, materials_[material_[a]], volume_[a], x_[a],
+                          [&](const Vec<D>&, Real overlap, Real, Real k) { e += 0.5 * k * overlap * overlap; });
+  return e;
+}
+
+template <int D>
+Real TlsphSolver<D>::max_obstacle_overlap(Index* pairs) const {
+  Real deepest = 0;
+  Index count = 0;
+  for (Index a = 0; a < n_; ++a)
+    for_each_wall_overlap(obstacles(), a, materials_[material_[a]], volume_[a], x_[a],
+                          [&](const Vec<D>&, Real overlap, Real, Real) {
+                            deepest = std::max(deepest, overlap);
+                            ++count;
+                          });
+  if (pairs) *pairs = count;
+  return deepest;
+}
+
+template <int D>
 Real TlsphSolver<D>::potential_energy() const {
   Real e = 0;
 #pragma omp parallel for reduction(+ : e)
@@ -303,6 +332,29 @@ void TlsphSolver<D>::set_interaction(std::span<const Vec<D>> acc) {
     if (verlet_started_) acc_[a] += acc[a] - interaction_[a];
     interaction_[a] = acc[a];
   }
+}
+
+template <int D>
+void TlsphSolver<D>::set_obstacles(std::span<const Vec<D>> point, std::span<const Real> radius, Real reach) {
+  if (point.size() != radius.size()) throw std::invalid_argument("set_obstacles: one radius per point");
+  contact_point_.clear();
+  contact_radius_.clear();
+  if (point.empty()) {
+    std::fill(contact_offset_.begin(), contact_offset_.end(), 0);
+    return;
+  }
+  CellList<D> cells;
+  cells.build(point, reach);
+  const CellListView<D> near = cells.view();
+  for (Index a = 0; a < n_; ++a) {
+    contact_offset_[a] = static_cast<Index>(contact_point_.size());
+    if (fixed_[a]) continue;
+    near.for_each_near(x_[a], [&](Index c, const Vec<D>&) {
+      contact_point_.push_back(point[c]);
+      contact_radius_.push_back(radius[c]);
+    });
+  }
+  contact_offset_[n_] = static_cast<Index>(contact_point_.size());
 }
 
 template <int D>

@@ -7,7 +7,7 @@
 // memory (StateVector), where the device steps them and the host reads them for output. A structure
 // of a few thousand particles is launch-bound (13 launches per RK4 step of a few microseconds each; 4 more with quadratic gradients and hourglass control, 8 more with cell quadrature), so
 // the RK4 step is recorded once as a CUDA graph and replayed (LaunchGraph); it is recorded again when
-// the step size changes or the interaction field is first allocated, and not used while a load ramps up or a clamp moves (their values
+// the step size changes or the interaction field or the obstacle candidates move in memory, and not used while a load ramps up or a clamp moves (their values
 // change from step to step), where the launches go one by one.
 #include <memory>
 #include <span>
@@ -87,6 +87,10 @@ class TlsphSolver {
   // The fluid's interaction acceleration alpha(f->s) (Eq. 48), one per particle, added to the
   // acceleration until it is set again.
   void set_interaction(std::span<const Vec<D>> acc);
+  // Rigid obstacles the structure may touch (the fluid's walls; for_each_wall_overlap in
+  // tlsph_functors.hpp): points with a radius, half their spacing. Each particle keeps those within
+  // `reach` of its current position as its candidates, until they are set again.
+  void set_obstacles(std::span<const Vec<D>> point, std::span<const Real> radius, Real reach);
   // Whether the last RK4 step on the device replayed a recorded graph (for tests and benchmarks).
   bool replayed_graph() const { return replayed_graph_; }
   // Graphs on (the default) or off: off, the device's launches go one by one (for benchmarks).
@@ -102,6 +106,7 @@ class TlsphSolver {
   void set_motion(std::span<const Vec<D>> x, std::span<const Vec<D>> v);
 
   Index size() const { return n_; }
+  Real support() const { return kernel_.support(); }
   Index pairs() const { return static_cast<Index>(nbr_.size()); }
   long long pair_evaluations() const { return pair_evaluations_; }
   const StateVector<Vec<D>>& reference() const { return X_; }
@@ -117,9 +122,13 @@ class TlsphSolver {
 
   Real kinetic_energy() const;
   Real strain_energy() const;                 // from the last update_stress()
+  Real contact_energy() const;                // stored in the overlaps with obstacles
+  // The deepest overlap with an obstacle, and the number of overlapping pairs, at the current state.
+  Real max_obstacle_overlap(Index* pairs = nullptr) const;
   Real potential_energy() const;              // gravity, relative to the reference configuration
   Real external_power(Real t) const;          // power of the applied loads at time t
   TlsphView<D> view();                        // host view of the current state
+  ObstacleView<D> obstacles() const { return {contact_offset_.data(), contact_point_.data(), contact_radius_.data()}; }
 
  private:
   void evaluate(const Exec& exec, Real t);  // acc at the current (x, v)
@@ -145,6 +154,9 @@ class TlsphSolver {
   StateVector<ElasticMaterial> materials_;
   std::vector<LoadField<D>> loads_;
   StateVector<Vec<D>> load_acc_, interaction_;
+  StateVector<Index> contact_offset_;  // obstacle candidates per particle (set_obstacles)
+  StateVector<Vec<D>> contact_point_;
+  StateVector<Real> contact_radius_;
   StateVector<Vec<D>> X_, x_, v_, acc_;
   StateVector<Real> volume_, cell_moment_;
   std::vector<Real> mass_;
@@ -167,6 +179,8 @@ class TlsphSolver {
   std::unique_ptr<LaunchGraph> graph_;
   Real recorded_dt_ = 0;
   const Vec<D>* recorded_interaction_ = nullptr;
+  const Vec<D>* recorded_contact_point_ = nullptr;
+  const Real* recorded_contact_radius_ = nullptr;
   bool replayed_graph_ = false;
   bool use_graphs_ = true;
 };

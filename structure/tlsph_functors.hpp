@@ -40,6 +40,15 @@ ISPH_HD inline Mat<D> svk_stress(const Mat<D>& E, const ElasticMaterial& m, Real
   return elastic_stress(E, m);
 }
 
+// Rigid obstacles a structure may touch (the fluid's walls; for_each_wall_overlap): the candidates of
+// particle a are offset[a] .. offset[a + 1] in point and radius.
+template <int D>
+struct ObstacleView {
+  const Index* offset;
+  const Vec<D>* point;
+  const Real* radius;
+};
+
 template <int D>
 struct TlsphView {
   Index n;
@@ -65,6 +74,7 @@ struct TlsphView {
   Real load_factor[8];
   Vec<D> gravity;
   const Vec<D>* interaction;  // the fluid's pressure acceleration alpha(f->s) (Eq. 48), or null
+  ObstacleView<D> obstacles;  // rigid obstacles the particles may touch (the fluid's walls)
   Real damping;    // mass-proportional damping rate [1/s]
   Real hourglass;  // Ganzenmüller's alpha (0 = off)
   bool quadratic;  // the pair gradients are exact for quadratic fields (the hourglass error is then symmetric)
@@ -210,7 +220,34 @@ struct TlsphGradientStress {
   }
 };
 
-// The acceleration (*) above, plus gravity, damping, the applied loads and the fluid's interaction.
+// Contact with rigid obstacles (the fluid's wall particles): a penalty on overlap. Particle a is a disc
+// (a sphere in 3D) of radius s_a / 2, s_a = V_a^(1/D) its spacing, and obstacle point c one of radius
+// r_c (half the wall's spacing). Where they overlap, delta = s_a / 2 + r_c - |x_a - y_c| > 0, and a is
+// pushed along e = (x_a - y_c) / |x_a - y_c| by the force k delta with
+//   k = M s_a^(D-2),   M = lambda + 2 mu (the P-wave modulus):
+// the overlap compresses one particle layer of a's own material across its face s_a^(D-1). The
+// acceleration is M delta / (rho_a s_a^2) e, and the pair stores the energy k delta^2 / 2. A particle on
+// the penalty alone oscillates at c_p / s_a, which the structure's own step, courant h / c_p, resolves.
+// Calls f(e, delta, M / (rho_a s_a^2), k) for every overlapping candidate of particle a (material m,
+// volume V_a, position x_a).
+template <int D, class F>
+ISPH_HD inline void for_each_wall_overlap(const ObstacleView<D>& o, Index a, const ElasticMaterial& m, Real volume,
+                                          const Vec<D>& xa, F&& f) {
+  if (o.offset[a] == o.offset[a + 1]) return;
+  const Real modulus = m.lambda + 2 * m.mu;
+  const Real spacing = pow(volume, 1.0 / D);
+  const Real stiffness = modulus * pow(spacing, D - 2.0);
+  const Real rate = modulus / (m.density * spacing * spacing);
+  for (Index k = o.offset[a]; k < o.offset[a + 1]; ++k) {
+    const Vec<D> r = xa - o.point[k];
+    const Real distance = sqrt(norm2(r));
+    const Real overlap = 0.5 * spacing + o.radius[k] - distance;
+    if (overlap > 0 && distance > 0) f((1.0 / distance) * r, overlap, rate, stiffness);
+  }
+}
+
+// The acceleration (*) above, plus gravity, damping, the applied loads, the fluid's interaction and the
+// contact with obstacles.
 template <int D>
 struct TlsphAcceleration {
   TlsphView<D> s;
@@ -231,6 +268,8 @@ struct TlsphAcceleration {
     Vec<D> acc = (1.0 / m.density) * f + s.gravity - s.damping * s.v[a];
     for (int l = 0; l < s.loads; ++l) acc += s.load_factor[l] * s.load_acc[static_cast<long>(l) * s.n + a];
     if (s.interaction) acc += s.interaction[a];
+    for_each_wall_overlap(s.obstacles, a, m, s.volume[a], s.x[a],
+                          [&](const Vec<D>& e, Real overlap, Real rate, Real) { acc += (rate * overlap) * e; });
     s.acc[a] = acc;
   }
 };

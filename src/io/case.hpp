@@ -203,6 +203,7 @@ struct CouplingSpec {
   int reuse_steps = 8;                       // quasi-Newton: steps whose iterations are reused (0: none)
   std::string interaction_force = "pairwise";  // pairwise | gradient (Eq. 48 literally; structure/interaction.hpp)
   std::string substep_interaction = "held";  // held (alpha of the step's end) | interpolated (from the last step's)
+  bool wall_contact = true;                  // structure particles overlapping wall particles are pushed out (sim/coupling.hpp)
 };
 
 // Periodic axes: particles leaving [lo, hi) re-enter on the other side and neighbours are found

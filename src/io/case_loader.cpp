@@ -382,6 +382,7 @@ void read_fields(Table& t, CouplingSpec& c) {
       c.substeps = static_cast<int>(substeps);
   }
   t.read("fsi_shifting", c.fsi_shifting);
+  t.read("wall_contact", c.wall_contact);
   read_choice(t, "interaction_force", c.interaction_force, {"gradient", "pairwise"});
   read_choice(t, "substep_interaction", c.substep_interaction, {"held", "interpolated"});
   if (t.read("tolerance", c.tolerance) && !(c.tolerance > 0.0 && c.tolerance < 1.0))
@@ -1159,6 +1160,7 @@ std::string resolved_toml(const CaseSpec& c) {
   out << "\n[coupling]\n"
       << "substeps = " << c.coupling.substeps << "\n"
       << "fsi_shifting = " << toml_bool(c.coupling.fsi_shifting) << "\n"
+      << "wall_contact = " << toml_bool(c.coupling.wall_contact) << "\n"
       << "interaction_force = " << quote(c.coupling.interaction_force) << "\n"
       << "substep_interaction = " << quote(c.coupling.substep_interaction) << "\n"
       << "tolerance = " << toml_float(c.coupling.tolerance) << "\n"

@@ -106,6 +106,7 @@ FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid
   fluid.begin_step(dt, timer);
   quasi_newton_.begin_step();
   timer.time("structure", [&] {
+    set_obstacles(fluid);
     solver_.save_state();
     x_old_.assign(solver_.position().begin(), solver_.position().end());
   });
@@ -164,6 +165,7 @@ void StructureCoupling<D>::explicit_step(Real t, Real dt, WcsphSolver<D>& fluid,
   Real work = 0;
   int count = 0;
   timer.time("structure", [&] {
+    set_obstacles(fluid);
     x_old_.assign(solver_.position().begin(), solver_.position().end());
     count = substep(t, dt, work);
     solver_.update_stress();
@@ -220,7 +222,37 @@ void StructureCoupling<D>::set_interaction() {
 }
 
 template <int D>
+void StructureCoupling<D>::set_obstacles(const FluidParticles<D>& fluid) {
+  if (!spec_.wall_contact) return;
+  const Real reach = solver_.support();
+  Vec<D> lo = solver_.position()[0], hi = lo;
+  for (const Vec<D>& x : solver_.position())
+    for (int d = 0; d < D; ++d) lo[d] = std::min(lo[d], x[d] - reach), hi[d] = std::max(hi[d], x[d] + reach);
+  obstacle_point_.clear();
+  obstacle_radius_.clear();
+  for (Index a = 0; a < fluid.size(); ++a) {
+    if (fluid.kind()[a] != FluidKind::wall) continue;
+    const Vec<D>& x = fluid.position()[a];
+    bool near = true;
+    for (int d = 0; d < D; ++d) near = near && x[d] >= lo[d] && x[d] <= hi[d];
+    if (!near) continue;
+    obstacle_point_.push_back(x);
+    obstacle_radius_.push_back(0.5 * std::pow(fluid.volume()[a], 1.0 / D));
+  }
+  solver_.set_obstacles(obstacle_point_, obstacle_radius_, reach);
+}
+
+template <int D>
+void StructureCoupling<D>::record_overlap() {
+  if (!spec_.wall_contact) return;
+  Index pairs = 0;
+  max_wall_overlap_ = std::max(max_wall_overlap_, solver_.max_obstacle_overlap(&pairs));
+  steps_with_wall_contact_ += pairs > 0;
+}
+
+template <int D>
 void StructureCoupling<D>::account_step(Real work, const Vec<D>& force, int count, int iterations) {
+  record_overlap();
   interaction_work_ += work;
   force_sum_ += force;
   substeps_ += count;
@@ -248,7 +280,10 @@ JsonObject StructureCoupling<D>::summary() const {
       .set("max_interface_iterations", max_iterations_seen_)
       .set("unconverged_steps", unconverged_)
       .set("mean_force_on_structure", mean_force)
-      .set("interaction_work", interaction_work_);
+      .set("interaction_work", interaction_work_)
+      .set("wall_contact", spec_.wall_contact)
+      .set("steps_with_wall_contact", steps_with_wall_contact_)
+      .set("max_wall_overlap", max_wall_overlap_);
   contact_.write(o, "structure");
   return o;
 }

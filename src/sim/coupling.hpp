@@ -43,6 +43,13 @@
 // fluid (its boundary pressure takes g alone): in the boundary pressure of Adami et al. it closes an
 // explicit added-mass loop, and the gate blew up within 5 ms with it (measured, 2026-11-22).
 //
+// Structure-wall contact (coupling.wall_contact): at the start of each fluid step the fluid's wall
+// particles within the structure's kernel support become the TLSPH solver's obstacles, held at their
+// positions of the step's start over its substeps; structure particles that overlap them are pushed
+// out by a penalty of the structure's own stiffness (for_each_wall_overlap, structure/tlsph_functors.hpp).
+// Without it nothing stops a structure laid on a wall from passing through it (the fluid's pressure
+// stops only fluid). The penalty's stored energy is counted with the structure's strain energy.
+//
 // n_sub comes from the structure's own stability limit each fluid step, ceil(dt / dt_s) with
 // dt_s = courant h / c_p, or is fixed by coupling.substeps (the seed's fixed ratio, for comparison).
 #include <deque>
@@ -119,6 +126,10 @@ class StructureCoupling {
   int substep(Real t, Real dt, Real& work);
   // alpha(f->s) = f_s / rho_s (Eq. 48) from force_density_, handed to the TLSPH solver.
   void set_interaction();
+  // The fluid's wall particles within reach of the structure, as the TLSPH solver's obstacles.
+  void set_obstacles(const FluidParticles<D>& fluid);
+  // The deepest structure-wall overlap at the step's end, for summary().
+  void record_overlap();
   // The step's totals for summary(): interaction work, force, substeps, interface iterations.
   void account_step(Real work, const Vec<D>& force, int count, int iterations);
 
@@ -134,6 +145,10 @@ class StructureCoupling {
   long long steps_ = 0, substeps_ = 0, iterations_ = 0, unconverged_ = 0;
   int max_substeps_ = 0, max_iterations_seen_ = 0;
   ContactRecord<D> contact_;  // fluid inside the structure, step by step
+  std::vector<Vec<D>> obstacle_point_;  // wall particles near the structure, and half their spacing
+  std::vector<Real> obstacle_radius_;
+  Real max_wall_overlap_ = 0;
+  long long steps_with_wall_contact_ = 0;
   Vec<D> force_sum_ = Vec<D>::zero();  // sum over steps of the force on the structure, for its mean
   Real interaction_work_ = 0;
 };

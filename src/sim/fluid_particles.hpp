@@ -129,6 +129,7 @@ class FluidParticles {
   const StateVector<Vec<D>>& position() const { return x_; }
   const StateVector<Vec<D>>& velocity() const { return u_; }
   const StateVector<Real>& pressure() const { return p_; }
+  const StateVector<Real>& volume() const { return volume_; }
   const StateVector<FluidKind>& kind() const { return kind_; }
   const StateVector<Index>& id() const { return id_; }
   const StateVector<Index>& structure_index() const { return structure_index_; }  // -1: not a structure particle
