@@ -43,11 +43,20 @@ struct VelocityGradient {
 // (kernels/operators.hpp) applied per component and the pair viscosity nu_ab = (nu_a + nu_b)/2
 // (nu = laminar + eddy; the seed's mu_ab/rho_a for one density):
 //   lap_nu u_a = sum_b w_ab nu_ab ((u_a - u_b)/|r_ab| - (G_a r_ab)/|r_ab|),  w_ab = 2 e_ab · B^_a g_ab.
-// An explicit update needs a dissipative operator: where the renormalisation of a truncated support
-// (a free surface meeting a wall) is not positive definite, w_ab takes the wrong sign and the update
-// amplifies velocity differences at a rate independent of dt (measured: sunflower oil, nu = 5e-5, at
-// rest in a tank blows up at the surface corners within 0.1 s, at dt = 4.8e-4 and at 1e-4). There
-// the plain form B^ = I is used (Morris et al. 1997, always dissipative). Shared by the ISPH predictor
+// An explicit update needs a dissipative operator of bounded size, so B^ is used only within a factor
+// 2 of I (eigenvalues in (1/2, 2)), and the plain form B^ = I (Morris et al. 1997, always dissipative)
+// elsewhere:
+//  - where the renormalisation of a truncated support is not positive definite (a free surface meeting
+//    a wall), w_ab takes the wrong sign and the update amplifies velocity differences at a rate
+//    independent of dt (measured: sunflower oil, nu = 5e-5, at rest in a tank blows up at the surface
+//    corners within 0.1 s, at dt = 4.8e-4 and at 1e-4);
+//  - where it is positive definite but large, the viscous step limit (viscous_number h^2 / nu, which
+//    assumes B^ ~ I) is short by its largest eigenvalue. At the free surface that eigenvalue is
+//    arbitrary: B^ is exact for quadratic fields on any support, but on a truncated one only through
+//    large cancelling weights. In the rolling tank (dx = 1 mm) interior particles' eigenvalues lay in
+//    0.90-1.21 and near-surface ones' up to 3, while surface particles' ran from -4.6e4 to 2.3e4; one
+//    with 2.3e4 turned the oil's viscosity into a kick of 1,100 m/s^2 that set off the free surface
+//    (docs/VALIDATION.md §18). Shared by the ISPH predictor
 // and the weakly compressible model (sim/wcsph_functors.hpp); as a loop it writes zero on non-fluid
 // particles.
 template <int D>
@@ -62,7 +71,9 @@ struct ViscousAcceleration {
   ISPH_HD Vec<D> at(Index a) const {
     const OperatorView<D>& op = v.op;
     const Real nu_a = viscosity + (eddy_viscosity ? eddy_viscosity[a] : 0);
-    const Mat<D> bhat = positive_definite(Bhat[a]) ? Bhat[a] : Mat<D>::identity();
+    const Mat<D> I = Mat<D>::identity();
+    const bool bounded = positive_definite(Bhat[a] - 0.5 * I) && positive_definite(2.0 * I - Bhat[a]);
+    const Mat<D> bhat = bounded ? Bhat[a] : I;
     Vec<D> lap = Vec<D>::zero();
     for (Index k = op.nbr_offset[a]; k < op.nbr_offset[a + 1]; ++k) {
       const Index b = op.nbr[k];
