@@ -364,6 +364,22 @@ def liao(args):
     case_without_reference(args, "Dam break on an elastic plate, water column 0.2 m high", "liao_H02",
                            (0.2, 0.25, 0.3, 0.35, 0.4, 0.45), (-0.01, 0.81), (-0.01, 0.3), 2000, 0.2)
     liao_columns(args)
+    liao_contact(args)
+
+
+def liao_contact(args):
+    """The 0.4 m column continued from 0.27 s with the structure-wall contact, beside the run without it."""
+    run = case_without_reference(args, "Dam break on an elastic plate, 0.4 m column, structure-wall contact from 0.27 s",
+                                 "liao_contact", (0.28, 0.29, 0.30, 0.31, 0.32, 0.34), (0.55, 0.75), (-0.02, 0.12), 4000, 0.5)
+    without = run_or_partial(args, "liao")
+    if run is None or without is None:
+        return
+    c = coupling(summary(run)) if os.path.exists(os.path.join(run, "summary.json")) else {}
+    if c:
+        print(f"- Structure-wall contact in {c.get('steps_with_wall_contact')} fluid steps; deepest overlap "
+              f"{fmt(c.get('max_wall_overlap', math.nan) * 1e3, 3)} mm.\n")
+    tip_history(args, run, {}, "with structure-wall contact", "coupled_liao_contact_tip.png", ("x", "y"),
+                others=[(without, "without it (the plate passes through the floor)")])
 
 
 def liao_columns(args):
@@ -376,12 +392,17 @@ def liao_columns(args):
 
 def sloshing(args):
     run = case_without_reference(args, "Rolling tank with an elastic baffle (Idelsohn et al. 2008 set-up), T/dx = 2",
-                                 "sloshing_T2", (0.05, 0.1, 0.15, 0.2, 0.25, 0.3), (-0.03, 0.65), (-0.04, 0.2), 1200, 0.3)
+                                 "sloshing_T2", (0.1, 0.2, 0.3, 0.4, 0.5, 0.6), (-0.03, 0.65), (-0.04, 0.2), 1200, 0.3)
     if run is None:
         return
     e = read_probes(run, "energy.csv")
     print(f"- Work of the rolling walls on the oil: {fmt(e['boundary_work'][-1], 3)} J/m at the end; the total "
           f"(energies minus that work) changes by {fmt(e['total'][-1] - e['total'][0], 3)} J/m.\n")
+    # the case as shipped (T/dx = 4), continued from 0.2952 s after the viscous term's fix (VALIDATION §18)
+    fine = run_or_partial(args, "sloshing_T4_visc")
+    if fine is not None:
+        tip_history(args, fine, {}, "T/dx = 4 (dx = 1 mm)", "coupled_sloshing_T2_T4_tip.png", ("x", "y"),
+                    others=[(run, "T/dx = 2 (dx = 2 mm)")])
 
 
 STABILITY_VARIANTS = (("reference", "the case's defaults (no FSI layer, substeps from the stability limit, RK4, iterations)"),
