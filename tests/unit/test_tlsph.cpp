@@ -276,6 +276,8 @@ TEST(TimeIntegration, EachStepFeelsTheInteractionSetForIt) {
   }
 }
 
+namespace {
+
 // Structure-wall contact (for_each_wall_overlap): obstacle points of radius dx/2 in a row along y = -dx/2,
 // the top of a floor whose surface is y = 0, as the fluid's wall particles stand.
 struct Floor {
@@ -290,6 +292,8 @@ Floor floor_row(Real dx, Real x_lo, Real x_hi) {
   }
   return f;
 }
+
+}  // namespace
 
 // The penalty's law on a block at rest, unstrained, its bottom row lowered into the floor by delta: only
 // the bottom row feels it, each particle pushed up by M delta / (rho dx^2) (the one floor point below it
