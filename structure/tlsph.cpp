@@ -292,26 +292,16 @@ Real TlsphSolver<D>::strain_energy() const {
 }
 
 template <int D>
-Real TlsphSolver<D>::contact_energy() const {
-  Real e = 0;
+typename TlsphSolver<D>::ObstacleContact TlsphSolver<D>::obstacle_contact() const {
+  ObstacleContact c;
   for (Index a = 0; a < n_; ++a)
     for_each_wall_overlap(obstacles(), a, materials_[material_[a]], volume_[a], x_[a],
-                          [&](const Vec<D>&, Real overlap, Real, Real k) { e += 0.5 * k * overlap * overlap; });
-  return e;
-}
-
-template <int D>
-Real TlsphSolver<D>::max_obstacle_overlap(Index* pairs) const {
-  Real deepest = 0;
-  Index count = 0;
-  for (Index a = 0; a < n_; ++a)
-    for_each_wall_overlap(obstacles(), a, materials_[material_[a]], volume_[a], x_[a],
-                          [&](const Vec<D>&, Real overlap, Real, Real) {
-                            deepest = std::max(deepest, overlap);
-                            ++count;
+                          [&](const Vec<D>&, Real overlap, Real, Real k) {
+                            c.energy += 0.5 * k * overlap * overlap;
+                            c.deepest = std::max(c.deepest, overlap);
+                            ++c.pairs;
                           });
-  if (pairs) *pairs = count;
-  return deepest;
+  return c;
 }
 
 template <int D>
@@ -337,21 +327,23 @@ void TlsphSolver<D>::set_interaction(std::span<const Vec<D>> acc) {
 template <int D>
 void TlsphSolver<D>::set_obstacles(std::span<const Vec<D>> point, std::span<const Real> radius, Real reach) {
   if (point.size() != radius.size()) throw std::invalid_argument("set_obstacles: one radius per point");
+  obstacle_point_.assign(point.begin(), point.end());
+  obstacle_radius_.assign(radius.begin(), radius.end());
+  obstacle_cells_.build(obstacle_point_, reach);  // keeps addressing obstacle_point_
+  find_obstacle_candidates();
+}
+
+template <int D>
+void TlsphSolver<D>::find_obstacle_candidates() {
   contact_point_.clear();
   contact_radius_.clear();
-  if (point.empty()) {
-    std::fill(contact_offset_.begin(), contact_offset_.end(), 0);
-    return;
-  }
-  CellList<D> cells;
-  cells.build(point, reach);
-  const CellListView<D> near = cells.view();
+  const CellListView<D> near = obstacle_cells_.view();
   for (Index a = 0; a < n_; ++a) {
     contact_offset_[a] = static_cast<Index>(contact_point_.size());
-    if (fixed_[a]) continue;
+    if (fixed_[a] || obstacle_point_.empty()) continue;
     near.for_each_near(x_[a], [&](Index c, const Vec<D>&) {
-      contact_point_.push_back(point[c]);
-      contact_radius_.push_back(radius[c]);
+      contact_point_.push_back(obstacle_point_[c]);
+      contact_radius_.push_back(obstacle_radius_[c]);
     });
   }
   contact_offset_[n_] = static_cast<Index>(contact_point_.size());

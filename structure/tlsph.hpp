@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/device_memory.hpp"
+#include "core/neighbour_search.hpp"
 #include "core/parallel.hpp"
 #include "core/types.hpp"
 #include "kernels/smoothing_kernel.hpp"
@@ -88,9 +89,11 @@ class TlsphSolver {
   // acceleration until it is set again.
   void set_interaction(std::span<const Vec<D>> acc);
   // Rigid obstacles the structure may touch (the fluid's walls; for_each_wall_overlap in
-  // tlsph_functors.hpp): points with a radius, half their spacing. Each particle keeps those within
-  // `reach` of its current position as its candidates, until they are set again.
+  // tlsph_functors.hpp): points with a radius, half their spacing, kept with a cell list of edge `reach`
+  // until they are set again. Each particle's candidates are the points within `reach` of it, found here
+  // and again by find_obstacle_candidates() (at the positions of that call, until the next).
   void set_obstacles(std::span<const Vec<D>> point, std::span<const Real> radius, Real reach);
+  void find_obstacle_candidates();
   // Whether the last RK4 step on the device replayed a recorded graph (for tests and benchmarks).
   bool replayed_graph() const { return replayed_graph_; }
   // Graphs on (the default) or off: off, the device's launches go one by one (for benchmarks).
@@ -122,9 +125,12 @@ class TlsphSolver {
 
   Real kinetic_energy() const;
   Real strain_energy() const;                 // from the last update_stress()
-  Real contact_energy() const;                // stored in the overlaps with obstacles
-  // The deepest overlap with an obstacle, and the number of overlapping pairs, at the current state.
-  Real max_obstacle_overlap(Index* pairs = nullptr) const;
+  // The overlaps with obstacles at the current state: their stored energy, the deepest and their number.
+  struct ObstacleContact {
+    Real energy = 0, deepest = 0;
+    Index pairs = 0;
+  };
+  ObstacleContact obstacle_contact() const;
   Real potential_energy() const;              // gravity, relative to the reference configuration
   Real external_power(Real t) const;          // power of the applied loads at time t
   TlsphView<D> view();                        // host view of the current state
@@ -154,7 +160,10 @@ class TlsphSolver {
   StateVector<ElasticMaterial> materials_;
   std::vector<LoadField<D>> loads_;
   StateVector<Vec<D>> load_acc_, interaction_;
-  StateVector<Index> contact_offset_;  // obstacle candidates per particle (set_obstacles)
+  std::vector<Vec<D>> obstacle_point_;  // the obstacles (set_obstacles) and their cell list
+  std::vector<Real> obstacle_radius_;
+  CellList<D> obstacle_cells_;
+  StateVector<Index> contact_offset_;  // obstacle candidates per particle (find_obstacle_candidates)
   StateVector<Vec<D>> contact_point_;
   StateVector<Real> contact_radius_;
   StateVector<Vec<D>> X_, x_, v_, acc_;

@@ -224,30 +224,27 @@ void StructureCoupling<D>::set_interaction() {
 template <int D>
 void StructureCoupling<D>::set_obstacles(const FluidParticles<D>& fluid) {
   if (!spec_.wall_contact) return;
-  const Real reach = solver_.support();
-  Vec<D> lo = solver_.position()[0], hi = lo;
-  for (const Vec<D>& x : solver_.position())
-    for (int d = 0; d < D; ++d) lo[d] = std::min(lo[d], x[d] - reach), hi[d] = std::max(hi[d], x[d] + reach);
-  obstacle_point_.clear();
-  obstacle_radius_.clear();
+  if (walls_gathered_ && !fluid.has_moving_walls()) {  // fixed walls: the same points, new candidates
+    solver_.find_obstacle_candidates();
+    return;
+  }
+  std::vector<Vec<D>> point;
+  std::vector<Real> radius;
   for (Index a = 0; a < fluid.size(); ++a) {
     if (fluid.kind()[a] != FluidKind::wall) continue;
-    const Vec<D>& x = fluid.position()[a];
-    bool near = true;
-    for (int d = 0; d < D; ++d) near = near && x[d] >= lo[d] && x[d] <= hi[d];
-    if (!near) continue;
-    obstacle_point_.push_back(x);
-    obstacle_radius_.push_back(0.5 * std::pow(fluid.volume()[a], 1.0 / D));
+    point.push_back(fluid.position()[a]);
+    radius.push_back(0.5 * std::pow(fluid.volume()[a], 1.0 / D));
   }
-  solver_.set_obstacles(obstacle_point_, obstacle_radius_, reach);
+  solver_.set_obstacles(point, radius, solver_.support());
+  walls_gathered_ = true;
 }
 
 template <int D>
 void StructureCoupling<D>::record_overlap() {
   if (!spec_.wall_contact) return;
-  Index pairs = 0;
-  max_wall_overlap_ = std::max(max_wall_overlap_, solver_.max_obstacle_overlap(&pairs));
-  steps_with_wall_contact_ += pairs > 0;
+  const auto contact = solver_.obstacle_contact();
+  max_wall_overlap_ = std::max(max_wall_overlap_, contact.deepest);
+  steps_with_wall_contact_ += contact.pairs > 0;
 }
 
 template <int D>

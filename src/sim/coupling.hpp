@@ -43,9 +43,10 @@
 // fluid (its boundary pressure takes g alone): in the boundary pressure of Adami et al. it closes an
 // explicit added-mass loop, and the gate blew up within 5 ms with it (measured, 2026-11-22).
 //
-// Structure-wall contact (coupling.wall_contact): at the start of each fluid step the fluid's wall
-// particles within the structure's kernel support become the TLSPH solver's obstacles, held at their
-// positions of the step's start over its substeps; structure particles that overlap them are pushed
+// Structure-wall contact (coupling.wall_contact): the fluid's wall particles are the TLSPH solver's
+// obstacles (gathered once for fixed walls, at the start of every fluid step where walls move, and held
+// over its substeps); at the start of each fluid step every structure particle takes those within the
+// kernel support as its candidates, and those that overlap them are pushed
 // out by a penalty of the structure's own stiffness (for_each_wall_overlap, structure/tlsph_functors.hpp).
 // Without it nothing stops a structure laid on a wall from passing through it (the fluid's pressure
 // stops only fluid). The penalty's stored energy is counted with the structure's strain energy.
@@ -126,7 +127,7 @@ class StructureCoupling {
   int substep(Real t, Real dt, Real& work);
   // alpha(f->s) = f_s / rho_s (Eq. 48) from force_density_, handed to the TLSPH solver.
   void set_interaction();
-  // The fluid's wall particles within reach of the structure, as the TLSPH solver's obstacles.
+  // The fluid's wall particles as the TLSPH solver's obstacles, and each structure particle's candidates.
   void set_obstacles(const FluidParticles<D>& fluid);
   // The deepest structure-wall overlap at the step's end, for summary().
   void record_overlap();
@@ -145,8 +146,7 @@ class StructureCoupling {
   long long steps_ = 0, substeps_ = 0, iterations_ = 0, unconverged_ = 0;
   int max_substeps_ = 0, max_iterations_seen_ = 0;
   ContactRecord<D> contact_;  // fluid inside the structure, step by step
-  std::vector<Vec<D>> obstacle_point_;  // wall particles near the structure, and half their spacing
-  std::vector<Real> obstacle_radius_;
+  bool walls_gathered_ = false;  // the fixed walls are the solver's obstacles
   Real max_wall_overlap_ = 0;
   long long steps_with_wall_contact_ = 0;
   Vec<D> force_sum_ = Vec<D>::zero();  // sum over steps of the force on the structure, for its mean

@@ -134,6 +134,7 @@ class FluidParticles {
   const StateVector<Index>& id() const { return id_; }
   const StateVector<Index>& structure_index() const { return structure_index_; }  // -1: not a structure particle
   Real time() const { return time_; }
+  bool has_moving_walls() const { return !motions_.empty(); }
   // Work done on the fluid by the moving walls' pressure, integrated over the steps (their viscous
   // traction is not counted).
   Real wall_work() const { return wall_work_; }

@@ -433,7 +433,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
         const TlsphSolver<D>& s = coupling->solver();
         add_displacement_values(scene, s, row);
         sk = s.kinetic_energy(), sp = s.potential_energy();
-        ss = s.strain_energy() + s.contact_energy();  // the wall contact's penalty stores strain energy too
+        ss = s.strain_energy() + s.obstacle_contact().energy;  // the wall contact's penalty stores strain energy too
       }
       frame.probes.add_row(row);
       const Real ww = solver.wall_work();  // energy the moving walls gave the fluid

@@ -314,10 +314,10 @@ TEST(WallContact, OverlapPushesOutWithTheMaterialsStiffness) {
     EXPECT_NEAR(v.acc[a][0], 0.0, 1e-9);
     EXPECT_NEAR(v.acc[a][1], bottom ? modulus * delta / (m.density * dx * dx) : 0.0, 1e-6) << "particle " << a;
   }
-  Index pairs = 0;
-  EXPECT_NEAR(solver.max_obstacle_overlap(&pairs), delta, 1e-15);
-  EXPECT_EQ(pairs, 6);
-  EXPECT_NEAR(solver.contact_energy(), 6 * 0.5 * modulus * delta * delta, 1e-12 * modulus * delta * delta);
+  const auto contact = solver.obstacle_contact();
+  EXPECT_NEAR(contact.deepest, delta, 1e-15);
+  EXPECT_EQ(contact.pairs, 6);
+  EXPECT_NEAR(contact.energy, 6 * 0.5 * modulus * delta * delta, 1e-12 * modulus * delta * delta);
 }
 
 // A block thrown at the floor at 1 m/s under gravity: it bounces off without passing into the floor, and
@@ -338,18 +338,19 @@ TEST(WallContact, ThrownBlockBouncesOffTheFloor) {
     const Real dt = solver.stable_dt(0.25);
     auto energy = [&] {
       solver.update_stress();
-      return solver.kinetic_energy() + solver.potential_energy() + solver.strain_energy() + solver.contact_energy();
+      return solver.kinetic_energy() + solver.potential_energy() + solver.strain_energy() + solver.obstacle_contact().energy;
     };
     const Real e0 = energy();
     Real lowest = 1e300, deepest = 0;
     const int steps = static_cast<int>(0.02 / dt);
+    solver.set_obstacles(obstacles ? f.point : std::vector<Vec<2>>{}, obstacles ? f.radius : std::vector<Real>{},
+                         solver.support());
     for (int k = 0; k < steps; ++k) {
-      // held over 10 steps, as over the substeps of a fluid step
-      if (k % 10 == 0) solver.set_obstacles(obstacles ? f.point : std::vector<Vec<2>>{},
-                                           obstacles ? f.radius : std::vector<Real>{}, solver.support());
+      // candidates held over 10 steps, as over the substeps of a fluid step
+      if (k % 10 == 0) solver.find_obstacle_candidates();
       solver.step(k * dt, dt);
       for (const auto& x : solver.position()) lowest = std::min(lowest, x[1]);
-      deepest = std::max(deepest, solver.max_obstacle_overlap());
+      deepest = std::max(deepest, solver.obstacle_contact().deepest);
     }
     Real mean_vy = 0;
     for (const auto& v : solver.velocity()) mean_vy += v[1] / solver.size();
