@@ -208,14 +208,17 @@ void TlsphSolver<D>::rk4_launches(const Exec& exec, Real t, Real dt) {
   constexpr Real w_sum[4] = {1.0 / 6, 1.0 / 3, 1.0 / 3, 1.0 / 6};
   constexpr Real w_next[4] = {0.5, 0.5, 1.0, 1.0};  // the last unused: that stage writes the result
   constexpr Real t_stage[4] = {0.0, 0.5, 0.5, 1.0};
+  const Real clamped_energy = motions_.empty() ? 0 : clamped_kinetic_energy();
   for (int k = 0; k < 4; ++k) {
     prescribe_clamps(t + t_stage[k] * dt);
     evaluate(exec, t + t_stage[k] * dt);
+    if (!motions_.empty()) clamp_work_ += w_sum[k] * dt * clamp_power();  // RK4's own quadrature
     parallel_for(exec, n_,
                  RungeKuttaStage<D>{n_, x0_.data(), v0_.data(), acc_.data(), fixed_.data(), x_.data(), v_.data(),
                                     x_sum_.data(), v_sum_.data(), dt, w_sum[k], w_next[k], k == 3});
   }
   prescribe_clamps(t + dt);
+  if (!motions_.empty()) clamp_work_ += clamped_kinetic_energy() - clamped_energy;
 }
 
 template <int D>
@@ -252,11 +255,15 @@ void TlsphSolver<D>::step_verlet(Real t, Real dt) {
     pair_evaluations_ += evaluation_passes() * static_cast<long long>(pairs());
     verlet_started_ = true;
   }
+  const bool clamps_move = !motions_.empty();
+  const Real clamped_energy = clamps_move ? clamped_kinetic_energy() : 0;
+  if (clamps_move) clamp_work_ += 0.5 * dt * clamp_power();  // the trapezoidal rule, with the end's below
   parallel_for(exec, n_, VerletKickDrift<D>{acc_.data(), fixed_.data(), x_.data(), v_.data(), 0.5 * dt, dt});
   prescribe_clamps(t + dt);
   evaluate(exec, t + dt);
   pair_evaluations_ += evaluation_passes() * static_cast<long long>(pairs());
   parallel_for(exec, n_, VerletKickDrift<D>{acc_.data(), fixed_.data(), x_.data(), v_.data(), 0.5 * dt, 0.0});
+  if (clamps_move) clamp_work_ += 0.5 * dt * clamp_power() + clamped_kinetic_energy() - clamped_energy;
 }
 
 template <int D>
@@ -267,6 +274,22 @@ void TlsphSolver<D>::prescribe_clamps(Real t) {
     x_[a] = motions_[motion_[a]].position(X_[a], t);
     v_[a] = motions_[motion_[a]].velocity(X_[a], t);
   }
+}
+
+template <int D>
+Real TlsphSolver<D>::clamp_power() const {
+  Real p = 0;
+  for (Index a = 0; a < n_; ++a)
+    if (motion_[a] >= 0) p -= mass_[a] * dot(acc_[a], v_[a]);
+  return p;
+}
+
+template <int D>
+Real TlsphSolver<D>::clamped_kinetic_energy() const {
+  Real e = 0;
+  for (Index a = 0; a < n_; ++a)
+    if (motion_[a] >= 0) e += 0.5 * mass_[a] * norm2(v_[a]);
+  return e;
 }
 
 template <int D>
@@ -352,11 +375,13 @@ void TlsphSolver<D>::find_obstacle_candidates() {
 template <int D>
 void TlsphSolver<D>::save_state() {
   parallel_for(waiting_exec(), n_, CopyMotion<D>{x_.data(), v_.data(), saved_x_.data(), saved_v_.data()});
+  saved_clamp_work_ = clamp_work_;
 }
 
 template <int D>
 void TlsphSolver<D>::restore_state() {
   parallel_for(waiting_exec(), n_, CopyMotion<D>{saved_x_.data(), saved_v_.data(), x_.data(), v_.data()});
+  clamp_work_ = saved_clamp_work_;
   // The state is repeated under another interaction field: Verlet's opening kick needs the
   // acceleration at the restored state with the current field, so it is evaluated afresh.
   verlet_started_ = false;

@@ -133,6 +133,10 @@ class TlsphSolver {
   ObstacleContact obstacle_contact() const;
   Real potential_energy() const;              // gravity, relative to the reference configuration
   Real external_power(Real t) const;          // power of the applied loads at time t
+  // Work done on the structure by its moving clamps since the start, integrated over the steps
+  // (clamp_power); 0 while the clamps stand still. A restart sets it from the snapshot.
+  Real clamp_work() const { return clamp_work_; }
+  void set_clamp_work(Real work) { clamp_work_ = work; }
   TlsphView<D> view();                        // host view of the current state
   ObstacleView<D> obstacles() const { return {contact_offset_.data(), contact_point_.data(), contact_radius_.data()}; }
 
@@ -142,6 +146,12 @@ class TlsphSolver {
   void step_rk4(Real t, Real dt);
   void step_verlet(Real t, Real dt);
   void prescribe_clamps(Real t);  // moving clamps: x and v at time t (a host loop)
+  // The power a moving clamp puts into the rest of the structure, -sum_c m_c acc_c · v_c over the
+  // clamped particles c, with acc_c the acceleration they would have free (from the last evaluate):
+  // the clamp holds them against it. With the change of their own kinetic energy, which the clamp
+  // also supplies, this is the clamp's work (clamp_work). A host loop.
+  Real clamp_power() const;
+  Real clamped_kinetic_energy() const;
   void make_state_device_visible();
   // Launches that wait for each other (the host's, or the device's one by one).
   Exec waiting_exec() const { return Exec{exec_.device}; }
@@ -173,6 +183,7 @@ class TlsphSolver {
   StateVector<unsigned char> fixed_;
   std::vector<Index> motion_;
   std::vector<RigidMotion<D>> motions_;
+  Real clamp_work_ = 0, saved_clamp_work_ = 0;
   StateVector<Index> nbr_offset_, nbr_;
   StateVector<Vec<D>> cgrad_;
   StateVector<Real> hg_weight_;

@@ -248,14 +248,12 @@ ISPH_HD inline void for_each_wall_overlap(const ObstacleView<D>& o, Index a, con
 
 // The acceleration (*) above, plus gravity, damping, the applied loads, the fluid's interaction and the
 // contact with obstacles.
+// Clamped particles get the acceleration they would have free, which the clamp cancels (the
+// integrators keep them on the clamp's path); its power is the work of a moving clamp.
 template <int D>
 struct TlsphAcceleration {
   TlsphView<D> s;
   ISPH_HD void operator()(Index a) const {
-    if (s.fixed[a]) {
-      s.acc[a] = Vec<D>::zero();
-      return;
-    }
     const ElasticMaterial m = s.materials[s.material[a]];
     const Real kappa = 0.5 * s.hourglass * m.youngs_modulus;
     const Real inverse_volume = 1.0 / s.volume[a];

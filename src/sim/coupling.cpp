@@ -193,6 +193,8 @@ bool StructureCoupling<D>::restore(const SnapshotData& snapshot, FluidParticles<
   solver_.set_motion(x, v);
   const auto work = snapshot.attributes.find("interaction_work");
   interaction_work_ = work != snapshot.attributes.end() ? work->second : 0;
+  const auto clamp_work = snapshot.attributes.find("clamp_work");
+  solver_.set_clamp_work(clamp_work != snapshot.attributes.end() ? clamp_work->second : 0);
   fluid.move_structure(solver_.position(), v_mean_, solver_.deformation_gradient());
   return complete;
 }

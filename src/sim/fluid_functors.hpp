@@ -68,13 +68,19 @@ struct ViscousAcceleration {
   const Real* eddy_viscosity;  // nullptr: laminar only
   Real viscosity;
   Vec<D>* out = nullptr;
-  ISPH_HD Vec<D> at(Index a) const {
+  // Calls term(b, c_ab) for each neighbour b of fluid particle a with its pair term
+  //   c_ab = nu_ab w_ab ((u_a - u_b) - G_a r_ab)/|r_ab|,  lap_nu u_a = sum_b c_ab,
+  // or, with `flux_form`, Morris et al.'s c_ab = nu_ab w_ab (u_a - u_b)/|r_ab| with B^ = I: the momentum
+  // that crosses from b to a, so that the terms of a wall's particles sum to its traction on a. (The
+  // corrected terms vanish pair by pair in a linear shear, which carries a stress all the same.)
+  template <class Term>
+  ISPH_HD void for_each_term(Index a, bool flux_form, Term term) const {
     const OperatorView<D>& op = v.op;
     const Real nu_a = viscosity + (eddy_viscosity ? eddy_viscosity[a] : 0);
     const Mat<D> I = Mat<D>::identity();
-    const bool bounded = positive_definite(Bhat[a] - 0.5 * I) && positive_definite(2.0 * I - Bhat[a]);
+    const bool bounded = !flux_form && positive_definite(Bhat[a] - 0.5 * I) && positive_definite(2.0 * I - Bhat[a]);
     const Mat<D> bhat = bounded ? Bhat[a] : I;
-    Vec<D> lap = Vec<D>::zero();
+    const Mat<D> G = flux_form ? Mat<D>::zero() : grad[a];
     for (Index k = op.nbr_offset[a]; k < op.nbr_offset[a + 1]; ++k) {
       const Index b = op.nbr[k];
       const Vec<D> r_ab = op.r(a, b);
@@ -83,11 +89,37 @@ struct ViscousAcceleration {
       const Real nu_b = viscosity + (eddy_viscosity && v.is_fluid(b) ? eddy_viscosity[b] : 0);
       const Real w = 0.5 * (nu_a + nu_b) *
                      laplacian_pair_weight(bhat, r_ab, rho, op.volume[b] * op.kernel.gradient(r_ab));
-      lap += (w / rho) * (u[a] - v.velocity_seen(a, b, u) - grad[a] * r_ab);
+      term(b, (w / rho) * (u[a] - v.velocity_seen(a, b, u) - G * r_ab));
     }
+  }
+  ISPH_HD Vec<D> at(Index a) const {
+    Vec<D> lap = Vec<D>::zero();
+    for_each_term(a, false, [&](Index, const Vec<D>& c) { lap += c; });
     return lap;
   }
   ISPH_HD void operator()(Index a) const { out[a] = v.is_fluid(a) ? at(a) : Vec<D>::zero(); }
+};
+
+// Power of the viscous traction of boundary particles of one kind (`source`) on fluid particle a: they
+// act on it with the force m_a c_ab (ViscousAcceleration's flux form) and move with U_b, so they work at
+//   P_a = rho V_a sum_{b of that kind} c_ab · U_b
+// (fixed walls give 0). For walls this is part of the moving walls' work on the fluid, with their
+// pressure's (FluidParticles::moving_wall_power); on the plate of Couette flow it is mu U^2/H per area.
+template <int D>
+struct ViscousBoundaryPower {
+  ViscousAcceleration<D> viscous;
+  Real density;
+  FluidKind source;
+  Real* power;
+  ISPH_HD void operator()(Index a) const {
+    const FluidView<D>& v = viscous.v;
+    Real p = 0;
+    if (v.is_fluid(a))
+      viscous.for_each_term(a, true, [&](Index b, const Vec<D>& c) {
+        if (v.kind[b] == source) p += dot(c, v.wall_velocity[b]);
+      });
+    power[a] = density * v.op.volume[a] * p;
+  }
 };
 
 // Intermediate velocity, Eqs. 12-13: u*_a = u_a + dt (g + lap_nu u_a) (ViscousAcceleration).

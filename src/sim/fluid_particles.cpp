@@ -57,7 +57,7 @@ FluidParticles<D>::FluidParticles(FluidSetup<D>& s)
   wall_acceleration_ = boundary_force_ = state_array(Vec<D>::zero());
   p_ = state_array(Real{0});
   for (auto* v : {&inside_, &permute_scratch_}) *v = StateVector<unsigned char>(state_allocator<unsigned char>());
-  for (auto* v : {&body_distance_, &body_depth_}) *v = StateVector<Real>(state_allocator<Real>());
+  for (auto* v : {&body_distance_, &body_depth_, &power_density_}) *v = StateVector<Real>(state_allocator<Real>());
   has_structure_ = std::count(s.kind.begin(), s.kind.end(), FluidKind::structure) > 0;
   fluid_count_ = static_cast<Index>(std::count(s.kind.begin(), s.kind.end(), FluidKind::fluid));
   wall_count_ = static_cast<Index>(std::count(s.kind.begin(), s.kind.end(), FluidKind::wall));
@@ -190,13 +190,22 @@ Vec<D> FluidParticles<D>::gather_structure_force(std::span<Vec<D>> force_density
   return total;
 }
 
-// Power of the moving walls' pressure force on the fluid, sum_w -V_w f_w · u_w.
+// Power of the moving walls on the fluid: their pressure force's, sum_w -V_w f_w · u_w, and their
+// viscous traction's.
 template <int D>
 Real FluidParticles<D>::moving_wall_power() const {
-  Real power = 0;
+  Real power = viscous_wall_power_;
   for (Index a = 0; a < size(); ++a)
     if (motion_[a] >= 0) power -= volume_[a] * dot(boundary_force_[a], wall_velocity_[a]);
   return power;
+}
+
+template <int D>
+void FluidParticles<D>::record_viscous_wall_power(const ViscousAcceleration<D>& viscous) {
+  power_density_.resize(x_.size());
+  parallel_for(exec_, size(), ViscousBoundaryPower<D>{viscous, density_, FluidKind::wall, power_density_.data()});
+  viscous_wall_power_ = 0;
+  for (Index a = 0; a < size(); ++a) viscous_wall_power_ += power_density_[a];
 }
 
 template <int D>

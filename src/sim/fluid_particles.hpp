@@ -23,6 +23,9 @@
 
 namespace isph {
 
+template <int D>
+struct ViscousAcceleration;  // sim/fluid_functors.hpp
+
 // One array follows a re-sort or a removal: out[k] = in[order[k]].
 template <class T>
 struct GatherElements {
@@ -135,8 +138,7 @@ class FluidParticles {
   const StateVector<Index>& structure_index() const { return structure_index_; }  // -1: not a structure particle
   Real time() const { return time_; }
   bool has_moving_walls() const { return !motions_.empty(); }
-  // Work done on the fluid by the moving walls' pressure, integrated over the steps (their viscous
-  // traction is not counted).
+  // Work done on the fluid by the moving walls' pressure and viscous traction, integrated over the steps.
   Real wall_work() const { return wall_work_; }
 
   Real kinetic_energy() const;
@@ -213,7 +215,12 @@ class FluidParticles {
   // From the boundary force per unit volume (boundary_force_, filled by the model): the force density
   // on the structure particles indexed as in TLSPH, and its sum; the power of the moving walls on the fluid.
   Vec<D> gather_structure_force(std::span<Vec<D>> force_density) const;
+  // The power of the moving walls on the fluid: their pressure's (from boundary_force_) and their
+  // viscous traction's (the last record_viscous_wall_power).
   Real moving_wall_power() const;
+  // Records the power of the walls' viscous traction (ViscousBoundaryPower) for moving_wall_power, with
+  // the viscous term the model integrates over the coming step(s).
+  void record_viscous_wall_power(const ViscousAcceleration<D>& viscous);
 
   Exec exec_{};
   // particle state (permuted together by find_neighbours)
@@ -236,6 +243,8 @@ class FluidParticles {
   Index fluid_count_ = 0, wall_count_ = 0;
   long long neighbour_searches_ = 0;
   Real time_ = 0, wall_work_ = 0;
+  Real viscous_wall_power_ = 0;
+  StateVector<Real> power_density_;  // per-particle work array of record_viscous_wall_power
   std::vector<RigidMotion<D>> motions_;
   Real density_, viscosity_, dx_, reference_velocity_;
   SmoothingKernel<D> kernel_;

@@ -140,6 +140,7 @@ void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
     const ViscousAcceleration<D> viscous{v, Bhat_.data(), grad_u_.data(), u_.data(),
                                          sps ? eddy_viscosity_.data() : nullptr, viscosity_};
     parallel_for(exec_, n, VelocityPredictor<D>{viscous, gravity_, dt, u_star_.data()});
+    if (!motions_.empty()) this->record_viscous_wall_power(viscous);
   });
 
   // Free surface (Fig. 2) and Skillen's coefficient (Eq. 17).

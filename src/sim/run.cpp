@@ -272,7 +272,7 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& s
   const Real dt = spec.end_time / static_cast<Real>(steps);
   frame.set_output_interval(dt, 100);
 
-  Real boundary_work = 0;  // work of the applied loads, integrated by the trapezoidal rule
+  Real boundary_work = 0;  // work of the applied loads, integrated by the trapezoidal rule (moving clamps': the solver's)
   auto record = [&](Real t) {
     timer.time("output", [&] {
       solver.update_stress();
@@ -280,7 +280,8 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& s
       add_displacement_values(scene, solver, row);
       frame.probes.add_row(row);
       const Real ek = solver.kinetic_energy(), ep = solver.potential_energy(), es = solver.strain_energy();
-      frame.energy.add_row({t, 0, 0, ek, ep, es, boundary_work, ek + ep + es - boundary_work});
+      const Real work = boundary_work + solver.clamp_work();
+      frame.energy.add_row({t, 0, 0, ek, ep, es, work, ek + ep + es - work});
     });
   };
   auto snapshot = [&](Real t) {
@@ -373,6 +374,7 @@ void write_fluid_snapshot(SnapshotWriter& writer, double t, const FluidParticles
     fields.insert(fields.end(), {sxx, syy, sxy});
     coupling->add_snapshot_fields(solver, slot, fields);
     restart_state.emplace_back("interaction_work", coupling->interaction_work());
+    restart_state.emplace_back("clamp_work", coupling->solver().clamp_work());
   }
   writer.write(t, pos, fields, restart_state);
 }
@@ -436,7 +438,8 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
         ss = s.strain_energy() + s.obstacle_contact().energy;  // the wall contact's penalty stores strain energy too
       }
       frame.probes.add_row(row);
-      const Real ww = solver.wall_work();  // energy the moving walls gave the fluid
+      // energy the moving walls gave the fluid, and the moving clamps the structure
+      const Real ww = solver.wall_work() + (coupling ? coupling->solver().clamp_work() : 0);
       frame.energy.add_row({t, ek, ep, sk, sp, ss, ww, ek + ep + sk + sp + ss - ww});
     });
   };

@@ -134,8 +134,10 @@ void WcsphSolver<D>::configure(Real dt, PhaseTimer& timer) {
         parallel_for(exec_, n, LaplacianRenormalisation<D>{v.op, L_.data(), Bhat_.data()});
       }
       parallel_for(exec_, n, VelocityGradient<D>{v, L_.data(), u_.data(), true, 0.0, grad_u_.data(), nullptr});
-      parallel_for(exec_, n, ViscousAcceleration<D>{v, Bhat_.data(), grad_u_.data(), u_.data(), nullptr, viscosity_,
-                                                    viscous_.data()});
+      const ViscousAcceleration<D> viscous{v, Bhat_.data(), grad_u_.data(), u_.data(), nullptr, viscosity_,
+                                           viscous_.data()};
+      parallel_for(exec_, n, viscous);
+      if (!motions_.empty()) this->record_viscous_wall_power(viscous);  // held with the acceleration
     });
   if (!forces_current_) timer.time("pressure_force", [&] { evaluate_forces(); });
 }
