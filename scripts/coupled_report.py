@@ -398,11 +398,52 @@ def sloshing(args):
     e = read_probes(run, "energy.csv")
     print(f"- Work of the rolling walls on the oil: {fmt(e['boundary_work'][-1], 3)} J/m at the end; the total "
           f"(energies minus that work) changes by {fmt(e['total'][-1] - e['total'][0], 3)} J/m.\n")
+    sloshing_energy(args, [(run, "T/dx = 2"), (run_or_partial(args, "sloshing_T4"), "T/dx = 4")],
+                    [(run_or_partial(args, f"sloshing_no_baffle_T2_{shifting}"), shifting) for shifting in ("ops", "none", "xu")])
     # the case as shipped (T/dx = 4), continued from 0.2952 s after the viscous term's fix (VALIDATION §18)
     fine = run_or_partial(args, "sloshing_T4_visc")
     if fine is not None:
         tip_history(args, fine, {}, "T/dx = 4 (dx = 1 mm)", "coupled_sloshing_T2_T4_tip.png", ("x", "y"),
                     others=[(run, "T/dx = 2 (dx = 2 mm)")])
+
+
+def sloshing_energy(args, runs, no_baffle):
+    """The rolling tank's energy books: the total (energies less the walls' and the clamp's work) with the
+    baffle, and without it under each shifting [(run, shifting)]; the baffle's strain energy; and per
+    finished run the split of the exchange between oil and baffle (summary.json's interaction_work is the
+    oil's work on the baffle)."""
+    fig, ax = plt.subplots(figsize=(8, 4))
+    runs = [(run, label) for run, label in runs if run is not None]
+    for run, label in runs:
+        e = read_probes(run, "energy.csv")
+        line, = ax.plot(e["time"], e["total"] - e["total"][0], lw=1.5, label=f"total − initial, {label}")
+        ax.plot(e["time"], e["structure_strain"], "--", color=line.get_color(), lw=1, label=f"baffle's strain energy, {label}")
+        if not os.path.exists(os.path.join(run, "summary.json")):
+            continue
+        w_fs = coupling(summary(run)).get("interaction_work", math.nan)
+        structure = sum(e[k][-1] - e[k][0] for k in ("structure_kinetic", "structure_potential", "structure_strain"))
+        fluid = sum(e[k][-1] - e[k][0] for k in ("fluid_kinetic", "fluid_potential"))
+        clamp = structure - w_fs  # the structure's own books close (MovingWalls.ClampWorkClosesTheStructuresEnergyBalance)
+        walls = e["boundary_work"][-1] - clamp
+        print(f"- {label}, to t = {fmt(e['time'][-1], 3)} s: the oil's work on the baffle {fmt(w_fs, 3)} J/m, the clamp's "
+              f"{fmt(clamp, 3)} J/m, the baffle's gain {fmt(structure, 3)} J/m; the walls' work on the oil {fmt(walls, 3)} J/m, "
+              f"the oil's gain {fmt(fluid, 3)} J/m, so the oil's books are out by {fmt(fluid - walls + w_fs, 3)} J/m; "
+              f"the total changes by {fmt(e['total'][-1] - e['total'][0], 3)} J/m.")
+    rows = []
+    for (run, shifting), style in zip(no_baffle, ("k:", "k-.", "k--")):
+        if run is None:
+            continue
+        e = read_probes(run, "energy.csv")
+        ax.plot(e["time"], e["total"] - e["total"][0], style, lw=1.2, label=f"total − initial, no baffle, {shifting}, T/dx = 2")
+        rows.append([shifting, fmt(e["time"][-1], 3), fmt(e["boundary_work"][-1], 3),
+                     fmt(e["fluid_kinetic"][-1] - e["fluid_kinetic"][0], 3),
+                     fmt(e["fluid_potential"][-1] - e["fluid_potential"][0], 3), fmt(e["total"][-1] - e["total"][0], 3)])
+    if rows:
+        print("\nWithout the baffle (oil alone in the rolling tank, T/dx = 2):\n")
+        table(["shifting", "to t [s]", "walls' work [J/m]", "kinetic change [J/m]", "potential change [J/m]",
+               "total change [J/m]"], rows)
+    print()
+    save_history(fig, ax, args, "energy per unit depth [J/m]", "coupled_sloshing_energy.png")
 
 
 STABILITY_VARIANTS = (("reference", "the case's defaults (no FSI layer, substeps from the stability limit, RK4, iterations)"),

@@ -48,6 +48,25 @@ if [ "${1:-all}" != "report" ]; then
   { run walhorn cases/baffle_walhorn.toml; run walhorn_ops cases/baffle_walhorn.toml --set fluid.shifting.type=ops --set end_time=0.6; } &
   run sloshing_T2 cases/sloshing_baffle.toml --set dx=0.002 --set end_time=0.6 --set output.snapshot_interval=0.05
   wait
+  # The same tank with oil in the baffle's place (its clamp's slot in the floor closed): the energy the oil
+  # gains without the baffle (docs/VALIDATION.md section 18).
+  /usr/bin/python3 - "$OUT/sloshing_no_baffle.toml" <<'PY'
+import os, re, sys
+text = open("cases/sloshing_baffle.toml").read().replace('file = "data/', f'file = "{os.path.abspath("cases/data")}/')
+text = text.replace("structure = true", "structure = false").replace('name = "sloshing_baffle"', 'name = "sloshing_no_baffle"')
+blocks = text.split("[[bodies]]")
+keep = [b for b in blocks[1:] if not re.search(r'name = "(oil_left|oil_right|baffle|floor_left|floor_right)"', b)]
+motion = re.search(r"motion = .*", blocks[-1]).group(0)
+oil = '\nname = "oil"\nkind = "fluid"\nmaterial = "oil"\nshape = { type = "rectangle", min = [0.0, 0.0], max = [0.612, 0.115] }\n\n'
+floor = ('\nname = "floor"\nkind = "wall"\nshape = { type = "rectangle", min = [-0.006, -0.006], max = [0.618, 0.0] }\n'
+         + motion + "\n\n")
+last = keep[-1].split("[[probes]]")[0]  # no baffle, no tip probe
+open(sys.argv[1], "w").write("[[bodies]]".join([blocks[0], oil, floor] + keep[:-1] + [last]))
+PY
+  for shifting in ops none xu; do  # the case's shifting (OPS), none and Xu/Lind: 2.5-4 minutes each
+    run sloshing_no_baffle_T2_$shifting "$OUT/sloshing_no_baffle.toml" --set dx=0.002 --set end_time=0.6 \
+      --set fluid.shifting.type=$shifting
+  done
   if [ -n "${PLATE_FINE:-}" ]; then  # 2, 4 and 7 hours on one core each (2026-12-01)
     run plate_T8 cases/hydrostatic_plate.toml --set dx=0.00625 "${PLATE[@]}" &
     run plate_T12 cases/hydrostatic_plate.toml --set dx=0.0041666666666666666 "${PLATE[@]}"
