@@ -68,6 +68,24 @@ fs::path run_shaken_tank(const std::string& name, const std::string& extra) {
   return out / "run";
 }
 
+// From energy.csv: the range of boundary_work (over 0 and its values) and the largest change of
+// `total` from its first value.
+struct EnergyBooks {
+  double work_range = 0, drift = 0;
+};
+EnergyBooks energy_books(const std::map<std::string, std::vector<double>>& energy) {
+  const auto& work = energy.at("boundary_work");
+  const auto& total = energy.at("total");
+  double work_lo = 0, work_hi = 0;
+  EnergyBooks books;
+  for (std::size_t k = 0; k < work.size(); ++k) {
+    work_lo = std::min(work_lo, work[k]), work_hi = std::max(work_hi, work[k]);
+    books.drift = std::max(books.drift, std::fabs(total[k] - total[0]));
+  }
+  books.work_range = work_hi - work_lo;
+  return books;
+}
+
 }  // namespace
 
 // At a point fixed in space, the water above it is d(t) = H + s(t) - s(0) - y_p deep and accelerates
@@ -100,16 +118,10 @@ TEST(MovingWalls, ShakenTankPressureFollowsGravityPlusTheTanksAcceleration) {
 // kinetic and potential energy, so `total` stays within 5 % of the work's range.
 TEST(MovingWalls, WallWorkClosesTheEnergyBalance) {
   const auto energy = read_csv(run_shaken_tank("shaken_tank_energy", " --set end_time=0.2") / "energy.csv");
-  const auto& work = energy.at("boundary_work");
-  const auto& total = energy.at("total");
-  double work_lo = 0, work_hi = 0, drift = 0;
-  for (std::size_t k = 0; k < work.size(); ++k) {
-    work_lo = std::min(work_lo, work[k]), work_hi = std::max(work_hi, work[k]);
-    drift = std::max(drift, std::fabs(total[k] - total[0]));
-  }
+  const EnergyBooks books = energy_books(energy);
   // Half a period lifts the water by 2A: about m g 2A = 0.78 J of work.
-  EXPECT_GT(work_hi - work_lo, 0.5);
-  EXPECT_LT(drift, 0.05 * (work_hi - work_lo));
+  EXPECT_GT(books.work_range, 0.5);
+  EXPECT_LT(books.drift, 0.05 * books.work_range);
 }
 
 // A moving clamp does work on the structure it holds: a rubber post 10 x 50 mm (E = 1 MPa), clamped at
@@ -152,13 +164,7 @@ point = [0.005, 0.05]
   const auto r = isph("run " + file.string() + " --quiet --out " + (out / "run").string());
   ASSERT_EQ(r.status, 0) << r.output;
   const auto energy = read_csv(out / "run" / "energy.csv");
-  const auto& work = energy.at("boundary_work");
-  const auto& total = energy.at("total");
-  double work_lo = 0, work_hi = 0, drift = 0;
-  for (std::size_t k = 0; k < work.size(); ++k) {
-    work_lo = std::min(work_lo, work[k]), work_hi = std::max(work_hi, work[k]);
-    drift = std::max(drift, std::fabs(total[k] - total[0]));
-  }
-  EXPECT_GT(work_hi - work_lo, 0);
-  EXPECT_LT(drift, 0.02 * (work_hi - work_lo)) << "work range " << work_hi - work_lo;
+  const EnergyBooks books = energy_books(energy);
+  EXPECT_GT(books.work_range, 0);
+  EXPECT_LT(books.drift, 0.02 * books.work_range) << "work range " << books.work_range;
 }
