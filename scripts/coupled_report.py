@@ -14,6 +14,7 @@ import os
 import sys
 import tomllib
 
+import h5py
 import matplotlib.pyplot as plt
 import numpy as np
 
@@ -418,17 +419,22 @@ def sloshing_energy(args, runs, no_baffle):
         e = read_probes(run, "energy.csv")
         line, = ax.plot(e["time"], e["total"] - e["total"][0], lw=1.5, label=f"total − initial, {label}")
         ax.plot(e["time"], e["structure_strain"], "--", color=line.get_color(), lw=1, label=f"baffle's strain energy, {label}")
-        if not os.path.exists(os.path.join(run, "summary.json")):
-            continue
-        w_fs = coupling(summary(run)).get("interaction_work", math.nan)
-        structure = sum(e[k][-1] - e[k][0] for k in ("structure_kinetic", "structure_potential", "structure_strain"))
-        fluid = sum(e[k][-1] - e[k][0] for k in ("fluid_kinetic", "fluid_potential"))
+        if os.path.exists(os.path.join(run, "summary.json")):
+            end, w_fs = -1, coupling(summary(run)).get("interaction_work", math.nan)
+        else:  # a run still going or stopped: the works its last snapshot carries
+            snaps = snapshot_list(run)
+            if not snaps:
+                continue
+            with h5py.File(snaps[-1][1], "r") as h:
+                end, w_fs = int(np.argmin(np.abs(e["time"] - h.attrs["time"]))), float(h.attrs["interaction_work"])
+        structure = sum(e[k][end] - e[k][0] for k in ("structure_kinetic", "structure_potential", "structure_strain"))
+        fluid = sum(e[k][end] - e[k][0] for k in ("fluid_kinetic", "fluid_potential"))
         clamp = structure - w_fs  # the structure's own books close (MovingWalls.ClampWorkClosesTheStructuresEnergyBalance)
-        walls = e["boundary_work"][-1] - clamp
-        print(f"- {label}, to t = {fmt(e['time'][-1], 3)} s: the oil's work on the baffle {fmt(w_fs, 3)} J/m, the clamp's "
+        walls = e["boundary_work"][end] - clamp
+        print(f"- {label}, to t = {fmt(e['time'][end], 3)} s: the oil's work on the baffle {fmt(w_fs, 3)} J/m, the clamp's "
               f"{fmt(clamp, 3)} J/m, the baffle's gain {fmt(structure, 3)} J/m; the walls' work on the oil {fmt(walls, 3)} J/m, "
               f"the oil's gain {fmt(fluid, 3)} J/m, so the oil's books are out by {fmt(fluid - walls + w_fs, 3)} J/m; "
-              f"the total changes by {fmt(e['total'][-1] - e['total'][0], 3)} J/m.")
+              f"the total changes by {fmt(e['total'][end] - e['total'][0], 3)} J/m.")
     rows = []
     for (run, shifting), style in zip(no_baffle, ("k:", "k-.", "k--")):
         if run is None:
