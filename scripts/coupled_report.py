@@ -401,11 +401,13 @@ def sloshing(args):
           f"(energies minus that work) changes by {fmt(e['total'][-1] - e['total'][0], 3)} J/m.\n")
     sloshing_energy(args, [(run, "T/dx = 2"), (run_or_partial(args, "sloshing_T4"), "T/dx = 4")],
                     [(run_or_partial(args, f"sloshing_no_baffle_T2_{shifting}"), shifting) for shifting in ("ops", "none", "xu")])
-    # the case as shipped (T/dx = 4), continued from 0.2952 s after the viscous term's fix (VALIDATION §18)
-    fine = run_or_partial(args, "sloshing_T4_visc")
+    # the whole measured roll history at T/dx = 2, and the case as shipped (T/dx = 4) beside it
+    full = case_without_reference(args, "Rolling tank, T/dx = 2, the whole measured roll history", "sloshing_T2_full",
+                                  (0.8, 1.6, 2.4, 3.2, 4.0, 4.9), (-0.03, 0.65), (-0.04, 0.2), 1200, 0.3)
+    fine = run_or_partial(args, "sloshing_T4")
     if fine is not None:
         tip_history(args, fine, {}, "T/dx = 4 (dx = 1 mm)", "coupled_sloshing_T2_T4_tip.png", ("x", "y"),
-                    others=[(run, "T/dx = 2 (dx = 2 mm)")])
+                    others=[(full or run, "T/dx = 2 (dx = 2 mm)")])
 
 
 def sloshing_energy(args, runs, no_baffle):

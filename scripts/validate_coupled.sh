@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Coupled ISPH-TLSPH validation runs (issue: coupled FSI). On 2 cores: the hydrostatic plate at T/dx = 4
 # for 0.5 s takes about 45 minutes, the elastic gate at T/dx = 4 for 0.4 s about an hour, the Walhorn
-# obstacle about 20 minutes (and as long again with OPS shifting, for comparison) and the rolling tank at T/dx = 2 (0.4 s) about an hour; T/dx = 8 and 12 on the plate take
+# obstacle about 20 minutes (and as long again with OPS shifting, for comparison), the rolling tank at T/dx = 2 about
+# 7 minutes to 0.6 s and an hour for the whole 4.9 s (and 10 minutes for the tank without its baffle); T/dx = 8 and 12 on the plate take
 # many hours (PLATE_FINE=1 runs them), the Liao plate about 10 hours (LIAO=1), the rolling tank as shipped (T/dx = 4) to
-# 0.6 s about 45 minutes (SLOSHING_T4=1). The gate's stability variants: scripts/gate_stability.sh.
+# 1.2 s about 1.5 hours (SLOSHING_T4=1). The gate's stability variants: scripts/gate_stability.sh.
 # Writes every run under runs/ (OUT) and then the tables and plots of docs/VALIDATION.md:
 #   bash scripts/validate_coupled.sh            # the runs, then the report
 #   bash scripts/validate_coupled.sh report     # only the report, from existing runs
@@ -64,12 +65,13 @@ floor = ('\nname = "floor"\nkind = "wall"\nshape = { type = "rectangle", min = [
 last = keep[-1].split("[[probes]]")[0]  # no baffle, no tip probe
 open(sys.argv[1], "w").write("[[bodies]]".join([blocks[0], oil, floor] + keep[:-1] + [last]))
 PY
+  run sloshing_T2_full cases/sloshing_baffle.toml --set dx=0.002 --set output.snapshot_interval=0.1  # the 4.9 s: about an hour
   for shifting in ops none xu; do  # the case's shifting (OPS), none and Xu/Lind: 2.5-4 minutes each
     run sloshing_no_baffle_T2_$shifting "$OUT/sloshing_no_baffle.toml" --set dx=0.002 --set end_time=0.6 \
       --set fluid.shifting.type=$shifting
   done
   if [ -n "${SLOSHING_T4:-}" ]; then  # its energy books beside T/dx = 2 (docs/VALIDATION.md section 18)
-    run sloshing_T4 cases/sloshing_baffle.toml --set end_time=0.6 --set output.snapshot_interval=0.05
+    run sloshing_T4 cases/sloshing_baffle.toml --set end_time=1.2 --set output.snapshot_interval=0.05
   fi
   if [ -n "${PLATE_FINE:-}" ]; then  # 2, 4 and 7 hours on one core each (2026-12-01)
     run plate_T8 cases/hydrostatic_plate.toml --set dx=0.00625 "${PLATE[@]}" &
