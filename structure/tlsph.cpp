@@ -153,6 +153,7 @@ TlsphView<D> TlsphSolver<D>::view() {
   s.material = material_.data();
   s.materials = materials_.data();
   s.fixed = fixed_.data();
+  s.clamps_move = !motions_.empty();
   s.x = x_.data();
   s.v = v_.data();
   s.load_acc = load_acc_.data();
@@ -208,17 +209,18 @@ void TlsphSolver<D>::rk4_launches(const Exec& exec, Real t, Real dt) {
   constexpr Real w_sum[4] = {1.0 / 6, 1.0 / 3, 1.0 / 3, 1.0 / 6};
   constexpr Real w_next[4] = {0.5, 0.5, 1.0, 1.0};  // the last unused: that stage writes the result
   constexpr Real t_stage[4] = {0.0, 0.5, 0.5, 1.0};
-  const Real clamped_energy = motions_.empty() ? 0 : clamped_kinetic_energy();
+  const bool clamps_move = !motions_.empty();
+  const Real clamped_energy = clamps_move ? clamped_kinetic_energy() : 0;
   for (int k = 0; k < 4; ++k) {
     prescribe_clamps(t + t_stage[k] * dt);
     evaluate(exec, t + t_stage[k] * dt);
-    if (!motions_.empty()) clamp_work_ += w_sum[k] * dt * clamp_power();  // RK4's own quadrature
+    if (clamps_move) clamp_work_ += w_sum[k] * dt * clamp_power();  // RK4's own quadrature
     parallel_for(exec, n_,
                  RungeKuttaStage<D>{n_, x0_.data(), v0_.data(), acc_.data(), fixed_.data(), x_.data(), v_.data(),
                                     x_sum_.data(), v_sum_.data(), dt, w_sum[k], w_next[k], k == 3});
   }
   prescribe_clamps(t + dt);
-  if (!motions_.empty()) clamp_work_ += clamped_kinetic_energy() - clamped_energy;
+  if (clamps_move) clamp_work_ += clamped_kinetic_energy() - clamped_energy;
 }
 
 template <int D>

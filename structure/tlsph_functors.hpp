@@ -65,6 +65,7 @@ struct TlsphView {
   const int* material;
   const ElasticMaterial* materials;
   const unsigned char* fixed;  // clamped particles: prescribed zero displacement
+  bool clamps_move;  // some clamps move: clamped particles get their free acceleration (TlsphAcceleration)
   // state
   const Vec<D>* x;
   const Vec<D>* v;
@@ -248,12 +249,16 @@ ISPH_HD inline void for_each_wall_overlap(const ObstacleView<D>& o, Index a, con
 
 // The acceleration (*) above, plus gravity, damping, the applied loads, the fluid's interaction and the
 // contact with obstacles.
-// Clamped particles get the acceleration they would have free, which the clamp cancels (the
-// integrators keep them on the clamp's path); its power is the work of a moving clamp.
+// Clamped particles get zero, or where clamps move the acceleration they would have free, which the
+// clamp cancels (the integrators keep them on its path) and whose power is the clamp's work.
 template <int D>
 struct TlsphAcceleration {
   TlsphView<D> s;
   ISPH_HD void operator()(Index a) const {
+    if (s.fixed[a] && !s.clamps_move) {
+      s.acc[a] = Vec<D>::zero();
+      return;
+    }
     const ElasticMaterial m = s.materials[s.material[a]];
     const Real kappa = 0.5 * s.hourglass * m.youngs_modulus;
     const Real inverse_volume = 1.0 / s.volume[a];

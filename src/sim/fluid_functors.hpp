@@ -100,23 +100,23 @@ struct ViscousAcceleration {
   ISPH_HD void operator()(Index a) const { out[a] = v.is_fluid(a) ? at(a) : Vec<D>::zero(); }
 };
 
-// Power of the viscous traction of boundary particles of one kind (`source`) on fluid particle a: they
-// act on it with the force m_a c_ab (ViscousAcceleration's flux form) and move with U_b, so they work at
-//   P_a = rho V_a sum_{b of that kind} c_ab · U_b
-// (fixed walls give 0). For walls this is part of the moving walls' work on the fluid, with their
-// pressure's (FluidParticles::moving_wall_power); on the plate of Couette flow it is mu U^2/H per area.
+// Power of the walls' viscous traction on fluid particle a: its wall neighbours act on it with the
+// force m_a c_ab (ViscousAcceleration's flux form) and move with U_b, so they work at
+//   P_a = rho V_a sum_{b wall} c_ab · U_b
+// (fixed walls give 0; structures do not count, as they do not feel the traction back). With their
+// pressure's, the moving walls' work on the fluid (FluidParticles::moving_wall_power); on the plate of
+// Couette flow it is mu U^2/H per area.
 template <int D>
-struct ViscousBoundaryPower {
+struct ViscousWallPower {
   ViscousAcceleration<D> viscous;
   Real density;
-  FluidKind source;
   Real* power;
   ISPH_HD void operator()(Index a) const {
     const FluidView<D>& v = viscous.v;
     Real p = 0;
     if (v.is_fluid(a))
       viscous.for_each_term(a, true, [&](Index b, const Vec<D>& c) {
-        if (v.kind[b] == source) p += dot(c, v.wall_velocity[b]);
+        if (v.kind[b] == FluidKind::wall) p += dot(c, v.wall_velocity[b]);
       });
     power[a] = density * v.op.volume[a] * p;
   }

@@ -203,7 +203,7 @@ Real FluidParticles<D>::moving_wall_power() const {
 template <int D>
 void FluidParticles<D>::record_viscous_wall_power(const ViscousAcceleration<D>& viscous) {
   power_density_.resize(x_.size());
-  parallel_for(exec_, size(), ViscousBoundaryPower<D>{viscous, density_, FluidKind::wall, power_density_.data()});
+  parallel_for(exec_, size(), ViscousWallPower<D>{viscous, density_, power_density_.data()});
   viscous_wall_power_ = 0;
   for (Index a = 0; a < size(); ++a) viscous_wall_power_ += power_density_[a];
 }

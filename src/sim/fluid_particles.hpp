@@ -218,7 +218,7 @@ class FluidParticles {
   // The power of the moving walls on the fluid: their pressure's (from boundary_force_) and their
   // viscous traction's (the last record_viscous_wall_power).
   Real moving_wall_power() const;
-  // Records the power of the walls' viscous traction (ViscousBoundaryPower) for moving_wall_power, with
+  // Records the power of the walls' viscous traction (ViscousWallPower) for moving_wall_power, with
   // the viscous term the model integrates over the coming step(s).
   void record_viscous_wall_power(const ViscousAcceleration<D>& viscous);
 
