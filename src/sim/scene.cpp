@@ -133,6 +133,9 @@ Periodicity<D> periodicity(const PeriodicSpec& p) {
 // the nearest lattice point that is inside the bounding box of all particles and not occupied by a
 // boundary particle (the "cavity" the fluid lives in) gives the normal n_w, pointing to it, and the depth
 // d_w = |q - x_w| - dx/2 (the wall surface lies half a spacing before the first free lattice point).
+// The box is open upwards, against gravity, as the tank is: the top face of a wall is a surface too,
+// where water thrown over it lands (with the box closed there, the Walhorn tank's right wall had only
+// its inner face, and two spray particles that fell onto its top sank into it, 4.8 mm deep).
 // Wall particles with no free point within the kernel support keep n = 0 and never meet fluid.
 // What occupies a point depends on the particle: a structure particle's surface is found among all
 // boundary particles, a wall particle's only among the walls and the clamped structure particles, which
@@ -140,19 +143,22 @@ Periodicity<D> periodicity(const PeriodicSpec& p) {
 // gate's foot lifts off the floor): the wall beneath is then exposed, and its particles need the normal
 // and depth of that face (with the foot counted, they pointed sideways, 1.7 dx deep, and water that
 // ran into the floor there was not stopped by the impermeability condition of Project).
+// Returns 1 for the corner particles (normals bisecting two or more faces), 0 for the others.
 template <int D>
-void wall_surface_geometry(FluidSetup<D>& f, const std::vector<unsigned char>& structure_fixed, Real dx, Real support,
-                           const Periodicity<D>& period) {
+std::vector<unsigned char> wall_surface_geometry(FluidSetup<D>& f, const std::vector<unsigned char>& structure_fixed,
+                                                 Real dx, Real support, const Periodicity<D>& period,
+                                                 const Vec<D>& gravity) {
   const Index n = static_cast<Index>(f.x.size());
   f.wall_normal.assign(n, Vec<D>::zero());
   f.wall_depth.assign(n, 0);
+  std::vector<unsigned char> corner(n, 0);
   std::vector<Vec<D>> boundary, permanent;
   for (Index a = 0; a < n; ++a) {
     if (f.kind[a] == FluidKind::fluid) continue;
     boundary.push_back(f.x[a]);
     if (f.kind[a] == FluidKind::wall || structure_fixed[f.structure_index[a]]) permanent.push_back(f.x[a]);
   }
-  if (boundary.empty()) return;
+  if (boundary.empty()) return corner;
   Vec<D> lo = f.x[0], hi = f.x[0];
   for (const auto& x : f.x)
     for (int d = 0; d < D; ++d) lo[d] = std::min(lo[d], x[d]), hi[d] = std::max(hi[d], x[d]);
@@ -168,38 +174,53 @@ void wall_surface_geometry(FluidSetup<D>& f, const std::vector<unsigned char>& s
   const int reach = static_cast<int>(std::ceil(support / dx)) + 1;
   for (Index a = 0; a < n; ++a) {
     if (f.kind[a] == FluidKind::fluid) continue;
-    Real best = std::numeric_limits<Real>::max();
-    Vec<D> best_offset = Vec<D>::zero();
+    int best = std::numeric_limits<int>::max();  // |k|^2 of the nearest free sites, offsets k dx
+    Vec<D> first = Vec<D>::zero(), sum = Vec<D>::zero();
+    int ties = 0;
     int k[D];
     for (int d = 0; d < D; ++d) k[d] = -reach;
     while (true) {
+      int k2 = 0;
       Vec<D> offset;
-      for (int d = 0; d < D; ++d) offset[d] = k[d] * dx;
-      const Real dist2 = norm2(offset);
-      if (dist2 > 0 && dist2 < best) {
+      for (int d = 0; d < D; ++d) offset[d] = k[d] * dx, k2 += k[d] * k[d];
+      if (k2 > 0 && k2 <= best) {
         const Vec<D> q = period.wrap(f.x[a] + offset);
         bool in_box = true;
         for (int d = 0; d < D; ++d)
-          if (!period.axis[d] && (q[d] < lo[d] || q[d] > hi[d])) in_box = false;
-        if (in_box && !occupied(f.kind[a] == FluidKind::wall ? permanent_cells : boundary_cells, q))
-          best = dist2, best_offset = offset;
+          if (!period.axis[d] && ((q[d] < lo[d] && !(gravity[d] > 0)) || (q[d] > hi[d] && !(gravity[d] < 0))))
+            in_box = false;
+        if (in_box && !occupied(f.kind[a] == FluidKind::wall ? permanent_cells : boundary_cells, q)) {
+          if (k2 < best) best = k2, first = offset, sum = Vec<D>::zero(), ties = 0;
+          sum = sum + offset;
+          ++ties;
+        }
       }
       int d = 0;
       while (d < D && ++k[d] > reach) k[d] = -reach, ++d;
       if (d == D) break;
     }
-    if (best == std::numeric_limits<Real>::max()) continue;
-    const Real dist = std::sqrt(best);
-    f.wall_normal[a] = (1.0 / dist) * best_offset;
+    if (best == std::numeric_limits<int>::max()) continue;
+    const Real dist = std::sqrt(static_cast<Real>(best)) * dx;
+    // A convex corner or edge has its nearest free sites on two or more faces: its normal is their
+    // bisector, as if the corner were chamfered, so that water arriving on either face is met (with
+    // the normal of one face only, spray that fell onto the Walhorn tank's wall top at its inner corner
+    // was stopped only sideways, and slid down inside the wall). Sites on opposite sides (a wall one
+    // column thick at its middle) cancel; the first found is then kept.
+    const Real len = std::sqrt(norm2(sum));
+    corner[a] = ties > 1 && len > 1e-9 * dist;
+    f.wall_normal[a] = corner[a] ? (1.0 / len) * sum : (1.0 / dist) * first;
     f.wall_depth[a] = dist - 0.5 * dx;
   }
+  return corner;
 }
 
 // Every wall must be thick enough to fill the kernel support of the fluid beside it: behind each
-// particle of a wall's first layer there must be wall particles down to a depth of 2h.
+// particle of a wall's first layer there must be wall particles down to a depth of 2h. Corners are left
+// out: a corner is as thick as the faces it joins, which are checked, and along its diagonal normal the
+// lattice's particles lie sqrt(2) dx apart, the second of them beyond the support.
 template <int D>
-void check_wall_thickness(const FluidSetup<D>& f, Real dx, Real support, const Periodicity<D>& period,
-                          const std::string& file, std::vector<std::string>& problems) {
+void check_wall_thickness(const FluidSetup<D>& f, const std::vector<unsigned char>& corner, Real dx, Real support,
+                          const Periodicity<D>& period, const std::string& file, std::vector<std::string>& problems) {
   const Index n = static_cast<Index>(f.x.size());
   std::vector<Vec<D>> walls;
   for (Index a = 0; a < n; ++a)
@@ -214,7 +235,7 @@ void check_wall_thickness(const FluidSetup<D>& f, Real dx, Real support, const P
     if (f.kind[a] != FluidKind::wall) continue;
     const Index self = w++;
     const Vec<D> nrm = f.wall_normal[a];
-    if (!(norm2(nrm) > 0) || f.wall_depth[a] > 0.75 * dx) continue;  // not on the first layer
+    if (!(norm2(nrm) > 0) || f.wall_depth[a] > 0.75 * dx || corner[a]) continue;  // not on the first layer's faces
     // the deepest wall particle straight behind (within dx/2 of the inward line)
     Real deepest = 0;
     for (Index k = nl.offset[self]; k < nl.offset[self + 1]; ++k) {
@@ -336,8 +357,9 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const
                          " fluid particles lie outside every wall (beyond the walls' bounding box)");
   }
 
-  wall_surface_geometry(f, structure_fixed, dx, f.kernel.support(), period);
-  check_wall_thickness(f, dx, f.kernel.support(), period, file, problems);
+  const std::vector<unsigned char> corner =
+      wall_surface_geometry(f, structure_fixed, dx, f.kernel.support(), period, to_vec<D>(spec.gravity));
+  check_wall_thickness(f, corner, dx, f.kernel.support(), period, file, problems);
 
   // Moving walls: where they go and how fast, sampled over the run (for Eq. 49 and the escape box).
   Real wall_speed = 0;

@@ -161,6 +161,51 @@ TEST(WallGeometry, FloorUnderAFreeStructureFacesUp) {
   EXPECT_EQ(clamped_part, 2);
 }
 
+// The box of free sites is open against gravity, as a tank is: the top of a wall that stands higher
+// than anything else faces up, dx/2 deep, so that spray thrown onto it lands on it, and its inner
+// corner faces both ways, along the bisector (the Walhorn tank's right wall: two particles that fell
+// onto its top sank 4.8 mm into it while it faced only inwards). Its outer face stays closed: nothing
+// beyond the walls' box is fluid's.
+TEST(WallGeometry, TopOfTheHighestWallFacesUp) {
+  const double dx = 0.1;
+  const std::string text =
+      "dx = 0.1\nend_time = 1\ngravity = [0, -9.81]\n[stages]\nfluid = true\n"
+      "[[materials]]\nname = \"water\"\nmodel = \"newtonian\"\ndensity = 1000\nviscosity = 1e-6\n"
+      "[[bodies]]\nname = \"water\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
+      "shape = { type = \"rectangle\", min = [0, 0], max = [1.0, 0.8] }\n"
+      "[[bodies]]\nname = \"floor\"\nkind = \"wall\"\n"
+      "shape = { type = \"rectangle\", min = [-0.3, -0.3], max = [2.3, 0] }\n"
+      "[[bodies]]\nname = \"left\"\nkind = \"wall\"\n"
+      "shape = { type = \"rectangle\", min = [-0.3, 0], max = [0, 1.2] }\n"
+      "[[bodies]]\nname = \"right\"\nkind = \"wall\"\n"
+      "shape = { type = \"rectangle\", min = [2.0, 0], max = [2.3, 1.2] }\n";
+  const Scene<2> scene = build_scene<2>(load_text(text));
+  const FluidSetup<2>& f = scene.fluid;
+  int top = 0, corner = 0, outer = 0;
+  for (std::size_t a = 0; a < f.x.size(); ++a) {
+    const Vec<2> x = f.x[a];
+    if (f.kind[a] != FluidKind::wall || x[0] < 2.0) continue;  // the right wall
+    if (std::abs(x[1] - 1.15) < 1e-9 && x[0] < 2.1) {  // its inner top corner
+      EXPECT_NEAR(f.wall_normal[a][0], -std::sqrt(0.5), 1e-12);
+      EXPECT_NEAR(f.wall_normal[a][1], std::sqrt(0.5), 1e-12);
+      EXPECT_NEAR(f.wall_depth[a], 0.5 * dx, 1e-12);
+      ++corner;
+    } else if (std::abs(x[1] - 1.15) < 1e-9) {  // the rest of its top row
+      EXPECT_NEAR(f.wall_normal[a][0], 0, 1e-12) << "at x = " << x[0];
+      EXPECT_NEAR(f.wall_normal[a][1], 1, 1e-12) << "at x = " << x[0];
+      EXPECT_NEAR(f.wall_depth[a], 0.5 * dx, 1e-12) << "at x = " << x[0];
+      ++top;
+    } else if (std::abs(x[1] - 0.55) < 1e-9 && x[0] > 2.2) {  // its outer column, at mid-height
+      EXPECT_NEAR(f.wall_normal[a][0], -1, 1e-12);
+      EXPECT_NEAR(f.wall_depth[a], 2.5 * dx, 1e-12);  // from the inner face, three columns in
+      ++outer;
+    }
+  }
+  EXPECT_EQ(top, 2);
+  EXPECT_EQ(corner, 1);
+  EXPECT_EQ(outer, 1);
+}
+
 // One projection step from rest gives the hydrostatic pressure rho g (H - y) and cancels gravity. The
 // walls' rows and the extrapolated surface condition are exact for it; the two-point Laplacian of
 // Eq. 15 is not exact for linear fields where the support is cut by the surface, which shifts the
