@@ -168,24 +168,14 @@ TEST(WallGeometry, FloorUnderAFreeStructureFacesUp) {
 // beyond the walls' box is fluid's.
 TEST(WallGeometry, TopOfTheHighestWallFacesUp) {
   const double dx = 0.1;
-  const std::string text =
-      "dx = 0.1\nend_time = 1\ngravity = [0, -9.81]\n[stages]\nfluid = true\n"
-      "[[materials]]\nname = \"water\"\nmodel = \"newtonian\"\ndensity = 1000\nviscosity = 1e-6\n"
-      "[[bodies]]\nname = \"water\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
-      "shape = { type = \"rectangle\", min = [0, 0], max = [1.0, 0.8] }\n"
-      "[[bodies]]\nname = \"floor\"\nkind = \"wall\"\n"
-      "shape = { type = \"rectangle\", min = [-0.3, -0.3], max = [2.3, 0] }\n"
-      "[[bodies]]\nname = \"left\"\nkind = \"wall\"\n"
-      "shape = { type = \"rectangle\", min = [-0.3, 0], max = [0, 1.2] }\n"
-      "[[bodies]]\nname = \"right\"\nkind = \"wall\"\n"
-      "shape = { type = \"rectangle\", min = [2.0, 0], max = [2.3, 1.2] }\n";
-  const Scene<2> scene = build_scene<2>(load_text(text));
+  // water 1 m wide, 0.8 m deep; the right wall spans x = 1.0-1.3 and rises to 1.2 m
+  const Scene<2> scene = build_scene<2>(load_text(tank_case(1.0, 0.8, 8, 0.4)));
   const FluidSetup<2>& f = scene.fluid;
   int top = 0, corner = 0, outer = 0;
   for (std::size_t a = 0; a < f.x.size(); ++a) {
     const Vec<2> x = f.x[a];
-    if (f.kind[a] != FluidKind::wall || x[0] < 2.0) continue;  // the right wall
-    if (std::abs(x[1] - 1.15) < 1e-9 && x[0] < 2.1) {  // its inner top corner
+    if (f.kind[a] != FluidKind::wall || x[0] < 1.0) continue;  // the right wall
+    if (std::abs(x[1] - 1.15) < 1e-9 && x[0] < 1.1) {  // its inner top corner
       EXPECT_NEAR(f.wall_normal[a][0], -std::sqrt(0.5), 1e-12);
       EXPECT_NEAR(f.wall_normal[a][1], std::sqrt(0.5), 1e-12);
       EXPECT_NEAR(f.wall_depth[a], 0.5 * dx, 1e-12);
@@ -195,7 +185,7 @@ TEST(WallGeometry, TopOfTheHighestWallFacesUp) {
       EXPECT_NEAR(f.wall_normal[a][1], 1, 1e-12) << "at x = " << x[0];
       EXPECT_NEAR(f.wall_depth[a], 0.5 * dx, 1e-12) << "at x = " << x[0];
       ++top;
-    } else if (std::abs(x[1] - 0.55) < 1e-9 && x[0] > 2.2) {  // its outer column, at mid-height
+    } else if (std::abs(x[1] - 0.55) < 1e-9 && x[0] > 1.2) {  // its outer column, at mid-height
       EXPECT_NEAR(f.wall_normal[a][0], -1, 1e-12);
       EXPECT_NEAR(f.wall_depth[a], 2.5 * dx, 1e-12);  // from the inner face, three columns in
       ++outer;
