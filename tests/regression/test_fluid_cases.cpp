@@ -311,3 +311,29 @@ TEST(EscapedParticles, RemovedAndCountedOrTheRunStops) {
   EXPECT_EQ(stopped.status, 3) << stopped.output;
   EXPECT_NE(read_file(out / "stop" / "summary.json").find("escaped the tank"), std::string::npos);
 }
+
+// Water thrown onto the top of the highest wall lands on it. A block of 25 particles (dx = 1 cm) leaves
+// the floor at (0.6, 2.0) m/s towards a bench 0.15 m high and 0.2 m wide, the highest thing in the
+// set-up. Before the bench's top was a face (the box of free lattice sites was closed at the highest
+// particle, 2026-12-02), nothing held the water there: 2 particles sank 4.8 cm into the bench and one
+// came out below it, which stopped the run as diverged.
+TEST(WallFaces, SprayLandsOnTheTopOfTheHighestWall) {
+  const fs::path out = fresh_dir("bench");
+  fs::create_directories(out);
+  const fs::path case_file = out / "bench.toml";
+  std::ofstream(case_file)
+      << "name = \"bench\"\ndimension = 2\ndx = 0.01\nend_time = 0.6\ngravity = [0.0, -9.81]\n"
+         "[stages]\nfluid = true\n[output]\ninterval = 0.01\nsnapshots = false\n"
+         "[[materials]]\nname = \"water\"\nmodel = \"newtonian\"\ndensity = 1000.0\nviscosity = 1.0e-6\n"
+         "[[bodies]]\nname = \"water\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
+         "shape = { type = \"rectangle\", min = [0.05, 0.0], max = [0.1, 0.05] }\n"
+         "initial_velocity = { type = \"uniform\", value = [0.6, 2.0] }\n"
+         "[[bodies]]\nname = \"floor\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [-0.03, -0.03], max = [0.2, 0.0] }\n"
+         "[[bodies]]\nname = \"left\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [-0.03, 0.0], max = [0.0, 0.15] }\n"
+         "[[bodies]]\nname = \"bench\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [0.2, -0.03], max = [0.4, 0.15] }\n";
+  const auto r = isph("run " + case_file.string() + " --quiet --out " + (out / "run").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string summary = read_file(out / "run" / "summary.json");
+  EXPECT_EQ(json_number(summary, "fluid_inside_wall_max"), 0) << summary;
+  EXPECT_EQ(json_number(summary, "max_fluid_wall_depth"), 0) << summary;
+}
