@@ -4,7 +4,7 @@
 # obstacle about 20 minutes (and as long again with OPS shifting, for comparison), the rolling tank at T/dx = 2 about
 # 7 minutes to 0.6 s and an hour for the whole 4.9 s (and 10 minutes for the tank without its baffle); T/dx = 8 and 12 on the plate take
 # many hours (PLATE_FINE=1 runs them), the Liao plate about 10 hours (LIAO=1), the rolling tank as shipped (T/dx = 4) to
-# 1.2 s about 1.5 hours (SLOSHING_T4=1). The gate's stability variants: scripts/gate_stability.sh.
+# 1.2 s about 1.5 hours (SLOSHING_T4=1), and on to the whole 4.9 s about 4.5 hours more (SLOSHING_T4=1 SLOSHING_T4_FULL=1). The gate's stability variants: scripts/gate_stability.sh.
 # Writes every run under runs/ (OUT) and then the tables and plots of docs/VALIDATION.md:
 #   bash scripts/validate_coupled.sh            # the runs, then the report
 #   bash scripts/validate_coupled.sh report     # only the report, from existing runs
@@ -72,6 +72,15 @@ PY
   done
   if [ -n "${SLOSHING_T4:-}" ]; then  # its energy books beside T/dx = 2 (docs/VALIDATION.md section 18)
     run sloshing_T4 cases/sloshing_baffle.toml --set end_time=1.2 --set output.snapshot_interval=0.05
+    # then the rest of the 4.9 s, from its 1.2 s snapshot (about 4.5 more hours of one core alone; stopped, it
+    # continues from its last snapshot the next time)
+    if [ -n "${SLOSHING_T4_FULL:-}" ] && [ ! -d "$OUT/sloshing_T4_full" ]; then
+      "$ISPH" run cases/sloshing_baffle.toml --out "$OUT/sloshing_T4_full" --threads "$THREADS" --quiet \
+        --restart "$(ls "$OUT"/sloshing_T4/snapshots/snapshot_*.h5 | tail -n 1)" --set output.snapshot_interval=0.05 \
+        || [ $? -eq 3 ]
+    elif [ -n "${SLOSHING_T4_FULL:-}" ]; then
+      run sloshing_T4_full cases/sloshing_baffle.toml --set output.snapshot_interval=0.05
+    fi
   fi
   if [ -n "${PLATE_FINE:-}" ]; then  # 2, 4 and 7 hours on one core each (2026-12-01)
     run plate_T8 cases/hydrostatic_plate.toml --set dx=0.00625 "${PLATE[@]}" &
