@@ -74,12 +74,14 @@ PY
     run sloshing_T4 cases/sloshing_baffle.toml --set end_time=1.2 --set output.snapshot_interval=0.05
     # then the rest of the 4.9 s, from its 1.2 s snapshot (about 4.5 more hours of one core alone; stopped, it
     # continues from its last snapshot the next time)
-    if [ -n "${SLOSHING_T4_FULL:-}" ] && [ ! -d "$OUT/sloshing_T4_full" ]; then
-      "$ISPH" run cases/sloshing_baffle.toml --out "$OUT/sloshing_T4_full" --threads "$THREADS" --quiet \
-        --restart "$(ls "$OUT"/sloshing_T4/snapshots/snapshot_*.h5 | tail -n 1)" --set output.snapshot_interval=0.05 \
-        || [ $? -eq 3 ]
-    elif [ -n "${SLOSHING_T4_FULL:-}" ]; then
-      run sloshing_T4_full cases/sloshing_baffle.toml --set output.snapshot_interval=0.05
+    if [ -n "${SLOSHING_T4_FULL:-}" ]; then
+      if [ -d "$OUT/sloshing_T4_full" ]; then
+        run sloshing_T4_full cases/sloshing_baffle.toml --set output.snapshot_interval=0.05
+      else
+        "$ISPH" run cases/sloshing_baffle.toml --out "$OUT/sloshing_T4_full" --threads "$THREADS" --quiet \
+          --restart "$(ls "$OUT"/sloshing_T4/snapshots/snapshot_*.h5 | tail -n 1)" --set output.snapshot_interval=0.05 \
+          || [ $? -eq 3 ]
+      fi
     fi
   fi
   if [ -n "${PLATE_FINE:-}" ]; then  # 2, 4 and 7 hours on one core each (2026-12-01)

@@ -118,6 +118,16 @@ void add_structure_particle(const Vec<D>& x, const Vec<D>& v, Index structure_in
   f.motion.resize(f.x.size(), -1);
 }
 
+// Whether q lies outside the box [lo, hi] on a non-periodic axis, the box being open against gravity
+// (a tank is open at its top).
+template <int D>
+bool outside_open_box(const Vec<D>& q, const Vec<D>& lo, const Vec<D>& hi, const Vec<D>& gravity,
+                      const Periodicity<D>& period) {
+  for (int d = 0; d < D; ++d)
+    if (!period.axis[d] && ((q[d] < lo[d] && !(gravity[d] > 0)) || (q[d] > hi[d] && !(gravity[d] < 0)))) return true;
+  return false;
+}
+
 template <int D>
 Periodicity<D> periodicity(const PeriodicSpec& p) {
   Periodicity<D> period;
@@ -185,11 +195,8 @@ std::vector<unsigned char> wall_surface_geometry(FluidSetup<D>& f, const std::ve
       for (int d = 0; d < D; ++d) offset[d] = k[d] * dx, k2 += k[d] * k[d];
       if (k2 > 0 && k2 <= best) {
         const Vec<D> q = period.wrap(f.x[a] + offset);
-        bool in_box = true;
-        for (int d = 0; d < D; ++d)
-          if (!period.axis[d] && ((q[d] < lo[d] && !(gravity[d] > 0)) || (q[d] > hi[d] && !(gravity[d] < 0))))
-            in_box = false;
-        if (in_box && !occupied(f.kind[a] == FluidKind::wall ? permanent_cells : boundary_cells, q)) {
+        if (!outside_open_box(q, lo, hi, gravity, period) &&
+            !occupied(f.kind[a] == FluidKind::wall ? permanent_cells : boundary_cells, q)) {
           if (k2 < best) best = k2, first = offset, sum = Vec<D>::zero(), ties = 0;
           sum = sum + offset;
           ++ties;
@@ -343,15 +350,8 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const
     problems.push_back(file + ": bodies: the fluid needs wall bodies around it (or periodic axes)");
   } else {
     Index outside = 0;
-    for (Index a = 0; a < n; ++a) {
-      if (f.kind[a] != FluidKind::fluid) continue;
-      for (int d = 0; d < D; ++d)
-        if (!period.axis[d] && ((f.x[a][d] < lo[d] && !(spec.gravity[d] > 0)) ||
-                                (f.x[a][d] > hi[d] && !(spec.gravity[d] < 0)))) {
-          ++outside;
-          break;
-        }
-    }
+    for (Index a = 0; a < n; ++a)
+      if (f.kind[a] == FluidKind::fluid && outside_open_box(f.x[a], lo, hi, to_vec<D>(spec.gravity), period)) ++outside;
     if (outside > 0)
       problems.push_back(file + ": bodies: " + std::to_string(outside) +
                          " fluid particles lie outside every wall (beyond the walls' bounding box)");

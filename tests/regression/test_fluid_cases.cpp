@@ -46,6 +46,17 @@ const std::string kTankWalls =
     " --set 'bodies.left_wall.shape={type=\"rectangle\",min=[-0.15,0.0],max=[0.0,1.2]}'"
     " --set 'bodies.right_wall.shape={type=\"rectangle\",min=[1.0,0.0],max=[1.15,1.2]}'";
 
+// Writes a 2D case of water under gravity, with output every 0.01 s, to `file`: the header and the
+// material, then `bodies` (its [[bodies]] and [[probes]] tables).
+fs::path write_water_case(const fs::path& file, const std::string& name, double dx, double end_time,
+                          const std::string& bodies) {
+  std::ofstream(file) << "name = \"" << name << "\"\ndimension = 2\ndx = " << dx << "\nend_time = " << end_time
+                      << "\ngravity = [0.0, -9.81]\n[stages]\nfluid = true\n[output]\ninterval = 0.01\n"
+                         "[[materials]]\nname = \"water\"\nmodel = \"newtonian\"\ndensity = 1000.0\nviscosity = 1.0e-6\n"
+                      << bodies;
+  return file;
+}
+
 }  // namespace
 
 // Still water, H/dx = 20 (walls thickened to three layers), 2 s: the bottom pressure is rho g H within
@@ -278,22 +289,17 @@ TEST(BadFluidInput, FailedPressureSolveStopsTheRun) {
 TEST(EscapedParticles, RemovedAndCountedOrTheRunStops) {
   const fs::path out = fresh_dir("escape");
   fs::create_directories(out);
-  const fs::path case_file = out / "thrown.toml";
-  {
-    std::ofstream c(case_file);
-    c << "name = \"thrown\"\ndimension = 2\ndx = 0.05\nend_time = 0.2\ngravity = [0.0, -9.81]\n"
-         "[stages]\nstructure = false\nfluid = true\n[output]\ninterval = 0.01\n"
-         "[[materials]]\nname = \"water\"\nmodel = \"newtonian\"\ndensity = 1000.0\nviscosity = 1.0e-6\n"
-         "[[bodies]]\nname = \"water\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
-         "shape = { type = \"rectangle\", min = [0.0, 0.0], max = [1.0, 0.5] }\n"
-         "[[bodies]]\nname = \"drop\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
-         "shape = { type = \"rectangle\", min = [0.425, 0.6], max = [0.575, 0.75] }\n"
-         "initial_velocity = { type = \"uniform\", value = [0.0, 8.0] }\n"
-         "[[bodies]]\nname = \"floor\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [-0.15, -0.15], max = [1.15, 0.0] }\n"
-         "[[bodies]]\nname = \"left\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [-0.15, 0.0], max = [0.0, 0.8] }\n"
-         "[[bodies]]\nname = \"right\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [1.0, 0.0], max = [1.15, 0.8] }\n"
-         "[[probes]]\nname = \"bottom\"\ntype = \"pressure\"\npoint = [0.5, 0.05]\n";
-  }
+  const fs::path case_file = write_water_case(
+      out / "thrown.toml", "thrown", 0.05, 0.2,
+      "[[bodies]]\nname = \"water\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
+      "shape = { type = \"rectangle\", min = [0.0, 0.0], max = [1.0, 0.5] }\n"
+      "[[bodies]]\nname = \"drop\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
+      "shape = { type = \"rectangle\", min = [0.425, 0.6], max = [0.575, 0.75] }\n"
+      "initial_velocity = { type = \"uniform\", value = [0.0, 8.0] }\n"
+      "[[bodies]]\nname = \"floor\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [-0.15, -0.15], max = [1.15, 0.0] }\n"
+      "[[bodies]]\nname = \"left\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [-0.15, 0.0], max = [0.0, 0.8] }\n"
+      "[[bodies]]\nname = \"right\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [1.0, 0.0], max = [1.15, 0.8] }\n"
+      "[[probes]]\nname = \"bottom\"\ntype = \"pressure\"\npoint = [0.5, 0.05]\n");
   const auto removed = isph("run " + case_file.string() + " --out " + (out / "remove").string());
   ASSERT_EQ(removed.status, 0) << removed.output;
   EXPECT_NE(removed.output.find("thrown out over the walls were removed"), std::string::npos) << removed.output;
@@ -320,17 +326,14 @@ TEST(EscapedParticles, RemovedAndCountedOrTheRunStops) {
 TEST(WallFaces, SprayLandsOnTheTopOfTheHighestWall) {
   const fs::path out = fresh_dir("bench");
   fs::create_directories(out);
-  const fs::path case_file = out / "bench.toml";
-  std::ofstream(case_file)
-      << "name = \"bench\"\ndimension = 2\ndx = 0.01\nend_time = 0.6\ngravity = [0.0, -9.81]\n"
-         "[stages]\nfluid = true\n[output]\ninterval = 0.01\nsnapshots = false\n"
-         "[[materials]]\nname = \"water\"\nmodel = \"newtonian\"\ndensity = 1000.0\nviscosity = 1.0e-6\n"
-         "[[bodies]]\nname = \"water\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
-         "shape = { type = \"rectangle\", min = [0.05, 0.0], max = [0.1, 0.05] }\n"
-         "initial_velocity = { type = \"uniform\", value = [0.6, 2.0] }\n"
-         "[[bodies]]\nname = \"floor\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [-0.03, -0.03], max = [0.2, 0.0] }\n"
-         "[[bodies]]\nname = \"left\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [-0.03, 0.0], max = [0.0, 0.15] }\n"
-         "[[bodies]]\nname = \"bench\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [0.2, -0.03], max = [0.4, 0.15] }\n";
+  const fs::path case_file = write_water_case(
+      out / "bench.toml", "bench", 0.01, 0.6,
+      "[[bodies]]\nname = \"water\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
+      "shape = { type = \"rectangle\", min = [0.05, 0.0], max = [0.1, 0.05] }\n"
+      "initial_velocity = { type = \"uniform\", value = [0.6, 2.0] }\n"
+      "[[bodies]]\nname = \"floor\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [-0.03, -0.03], max = [0.2, 0.0] }\n"
+      "[[bodies]]\nname = \"left\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [-0.03, 0.0], max = [0.0, 0.15] }\n"
+      "[[bodies]]\nname = \"bench\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [0.2, -0.03], max = [0.4, 0.15] }\n");
   const auto r = isph("run " + case_file.string() + " --quiet --out " + (out / "run").string());
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string summary = read_file(out / "run" / "summary.json");
