@@ -8,7 +8,7 @@
 # build-device, taking Eigen, toml11, CLI11 and GoogleTest from the Debian packages in .deps/debs
 # (apt-get download libeigen3-dev libtoml11-dev libcli11-dev libgtest-dev), since the GPU machine has
 # no package registry.
-# Steps (default: all): tests  sanitize  pairs  spmv  solvers  substeps  plate  fluid
+# Steps (default: all): tests  sanitize  pairs  spmv  solvers  substeps  plate  fluid  large
 #   tests   : the device tests with ISPH_REQUIRE_GPU_TESTS=1 (a skip is a failure)
 #   sanitize: the device tests under compute-sanitizer memcheck (out-of-bounds and misaligned accesses)
 #   pairs   : isph_pair_bench, 1e4 to 4e6 particles, host (all cores) and GPU
@@ -21,13 +21,20 @@
 #   fluid   : bench/case_sweep.py, the dam break and the gate from 1e4 to 1e6 fluid particles with
 #             --device cuda and the PPE on the device (cuda BiCGSTAB + the AMG of
 #             poisson/aggregation_amg.hpp; Jacobi and the polynomial preconditioner do not converge at
-#             1e5 and above), and on the cpu with all cores and the build's default PPE solver
+#             1e5 and above), then on the cpu with all cores and the same solver on the host (native
+#             BiCGSTAB + the same AMG), the 10x comparison of issue 5
+#   large   : the same cuda sweep at 4e6 fluid particles
 # Logs and tables go to OUT_DIR.
+# A lent machine has 15 minutes of device time, its start included. With SESSION_SECONDS set, a step
+# that would begin later than that many seconds after the script started is skipped (and says so), so
+# that the script returns inside the run's timeout with what it has. Suggested first call (about
+# 9 minutes; a build without HDF5 and hypre carried in .gpu-build):
+#   SESSION_SECONDS=420 bash bench/gpu_session.sh .gpu-build "$OUT" tests fluid pairs spmv large
 set -u -o pipefail
 build=${1:?build directory}
 out=${2:?output directory}
 shift 2
-steps=${*:-tests sanitize pairs spmv solvers substeps plate fluid}
+steps=${*:-tests sanitize pairs spmv solvers substeps plate fluid large}
 mkdir -p "$out"
 export LD_LIBRARY_PATH=/usr/local/cuda/lib64:/usr/local/cuda/lib:${LD_LIBRARY_PATH:-}
 
@@ -45,8 +52,13 @@ if ! "$build/isph_device_tests" --gtest_list_tests >/dev/null 2>&1; then
 fi
 
 status=0
+session_start=$(date +%s)
 for step in $steps; do
   start=$(date +%s)
+  if [ -n "${SESSION_SECONDS:-}" ] && [ $((start - session_start)) -ge "$SESSION_SECONDS" ]; then
+    echo "step $step: skipped ($((start - session_start)) s of SESSION_SECONDS=$SESSION_SECONDS used)"
+    continue
+  fi
   case $step in
     tests)
       ISPH_REQUIRE_GPU_TESTS=1 "$build/isph_device_tests" 2>&1 | tee "$out/device_tests.log" | grep -E "^\[  (PASSED|FAILED|SKIPPED) |OK \]|FAILED|Failure" || status=1 ;;
@@ -77,9 +89,11 @@ for step in $steps; do
     fluid)
       ISPH="$build/isph" python3 bench/case_sweep.py --sizes 1e4,1e5,1e6 --device cuda --threads "$(nproc)" \
         --backend cuda --preconditioner amg --out "$out/sweep_cuda" 2>&1 | tee "$out/fluid_sweep_cuda.md" || status=1
-      cpu_backend=$(grep -q '^HYPRE_LIBRARY:FILEPATH=.*libHYPRE' "$build/CMakeCache.txt" 2>/dev/null && echo hypre || echo eigen)
       ISPH="$build/isph" python3 bench/case_sweep.py --sizes 1e4,1e5,1e6 --device cpu --threads "$(nproc)" \
-        --backend "$cpu_backend" --out "$out/sweep_cpu" 2>&1 | tee "$out/fluid_sweep_cpu.md" || status=1 ;;
+        --backend native --preconditioner amg --out "$out/sweep_cpu" 2>&1 | tee "$out/fluid_sweep_cpu.md" || status=1 ;;
+    large)
+      ISPH="$build/isph" python3 bench/case_sweep.py --sizes 4e6 --device cuda --threads "$(nproc)" \
+        --backend cuda --preconditioner amg --out "$out/sweep_cuda_4e6" 2>&1 | tee "$out/fluid_sweep_cuda_4e6.md" || status=1 ;;
     *) echo "unknown step $step"; status=1 ;;
   esac
   echo "step $step: $(( $(date +%s) - start )) s"

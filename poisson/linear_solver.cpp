@@ -1,5 +1,6 @@
 // The solver factory, option checking, and the frame shared by every backend (see linear_solver.hpp).
 #include "poisson/linear_solver.hpp"
+#include "core/ordered_sum.hpp"
 #include "poisson/sparse_functors.hpp"
 
 #include <algorithm>
@@ -94,17 +95,6 @@ struct ResidualSquares {
     b2[i] = b[i] * b[i];
   }
 };
-struct BlockSum {
-  const double* v;
-  Index n, block;
-  double* partial;
-  ISPH_HD void operator()(Index k) const {
-    double s = 0;
-    for (Index i = k * block; i < n && i < (k + 1) * block; ++i) s += v[i];
-    partial[k] = s;
-  }
-};
-
 template <class F>
 Index first(const Exec& exec, Index n, const F& f) {
   return parallel_reduce(exec, n, kNone, f, MinOf{});
@@ -120,17 +110,6 @@ T read_back(const Exec& exec, const T* p) {
 
 StateVector<double> work_array(const Exec& exec) { return StateVector<double>(StateAllocator<double>(exec.device == Device::cuda)); }
 
-// The sum of v[0, n) in blocks of 256, the block sums added in order on the host.
-double ordered_sum(const Exec& exec, const double* v, Index n, StateVector<double>& partial) {
-  constexpr Index block = 256;
-  const Index blocks = (n + block - 1) / block;
-  partial.resize(blocks);
-  parallel_for(exec, blocks, BlockSum{v, n, block, partial.data()});
-  double s = 0;
-  for (Index k = 0; k < blocks; ++k) s += partial[k];
-  return s;
-}
-
 double relative_residual_on(const Exec& exec, const CsrMatrix& A, std::span<const double> b,
                             std::span<const double> x, StateVector<double>& r2, StateVector<double>& b2,
                             StateVector<double>& partial) {
@@ -138,7 +117,8 @@ double relative_residual_on(const Exec& exec, const CsrMatrix& A, std::span<cons
   b2.resize(A.rows);
   parallel_for(exec, A.rows, ResidualSquares{A.row_offset.data(), A.col.data(), A.val.data(), b.data(), x.data(),
                                              r2.data(), b2.data()});
-  const double r = ordered_sum(exec, r2.data(), A.rows, partial), bb = ordered_sum(exec, b2.data(), A.rows, partial);
+  const double r = ordered_sum(exec, A.rows, ScalarAt{r2.data()}, partial);
+  const double bb = ordered_sum(exec, A.rows, ScalarAt{b2.data()}, partial);
   return bb > 0 ? std::sqrt(r / bb) : std::sqrt(r);
 }
 

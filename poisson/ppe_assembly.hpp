@@ -172,11 +172,16 @@ struct CountRowEntries {
   const int* row_offset;
   const int* col;
   const double* val;
-  int* count;  // count[a] = entries kept in row a
-  ISPH_HD void operator()(Index a) const {
+  int* count;  // launched over rows + 1: count[0] = 0, count[a + 1] = entries kept in row a
+  ISPH_HD void operator()(Index i) const {
+    if (i == 0) {
+      count[0] = 0;
+      return;
+    }
+    const Index a = i - 1;
     int n = 0;
     for (int k = row_offset[a]; k < row_offset[a + 1]; ++k) n += (val[k] != 0 || col[k] == a);
-    count[a] = n;
+    count[i] = n;
   }
 };
 

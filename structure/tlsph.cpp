@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "core/neighbour_search.hpp"
+#include "core/ordered_sum.hpp"
 #include "kernels/operators.hpp"
 
 namespace isph {
@@ -61,7 +62,7 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
       volume_(s.volume.begin(), s.volume.end()),
       material_(s.material.begin(), s.material.end()),
       fixed_(s.fixed.begin(), s.fixed.end()),
-      motion_(std::move(s.motion)),
+      motion_(s.motion.begin(), s.motion.end()),
       motions_(std::move(s.motions)) {
   if (exec_.device == Device::cuda && cuda_devices() == 0)
     throw std::runtime_error("the structure solver was asked to run on a CUDA device, and none is visible to this process");
@@ -75,7 +76,7 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
     mass_[a] = materials_[material_[a]].density * volume_[a];
     if (fixed_[a]) v_[a] = Vec<D>::zero();
   }
-  prescribe_clamps(0);  // the clamps' velocity at t = 0
+  prescribe_clamps(Exec{}, 0);  // the clamps' velocity at t = 0 (the state is still in host memory)
   load_acc_.reserve(loads_.size() * n_);
   for (const auto& l : loads_) load_acc_.insert(load_acc_.end(), l.acc.begin(), l.acc.end());
 
@@ -127,8 +128,9 @@ template <int D>
 void TlsphSolver<D>::make_state_device_visible() {
   make_device_visible(materials_);
   make_device_visible(volume_), make_device_visible(cell_moment_), make_device_visible(hg_weight_), make_device_visible(psi_);
-  make_device_visible(material_);
+  make_device_visible(material_), make_device_visible(motion_), make_device_visible(mass_);
   make_device_visible(fixed_);
+  make_device_visible(clamp_poses_), make_device_visible(block_sums_);
   make_device_visible(nbr_offset_), make_device_visible(nbr_);
   make_device_visible(contact_offset_), make_device_visible(contact_point_), make_device_visible(contact_radius_);
   for (auto* v : {&load_acc_, &interaction_, &X_, &x_, &v_, &acc_, &cgrad_, &rcgrad_, &cgrad_sum_, &x0_, &v0_,
@@ -212,14 +214,14 @@ void TlsphSolver<D>::rk4_launches(const Exec& exec, Real t, Real dt) {
   const bool clamps_move = !motions_.empty();
   const Real clamped_energy = clamps_move ? clamped_kinetic_energy() : 0;
   for (int k = 0; k < 4; ++k) {
-    prescribe_clamps(t + t_stage[k] * dt);
+    prescribe_clamps(exec, t + t_stage[k] * dt);
     evaluate(exec, t + t_stage[k] * dt);
     if (clamps_move) clamp_work_ += w_sum[k] * dt * clamp_power();  // RK4's own quadrature
     parallel_for(exec, n_,
                  RungeKuttaStage<D>{n_, x0_.data(), v0_.data(), acc_.data(), fixed_.data(), x_.data(), v_.data(),
                                     x_sum_.data(), v_sum_.data(), dt, w_sum[k], w_next[k], k == 3});
   }
-  prescribe_clamps(t + dt);
+  prescribe_clamps(exec, t + dt);
   if (clamps_move) clamp_work_ += clamped_kinetic_energy() - clamped_energy;
 }
 
@@ -261,7 +263,7 @@ void TlsphSolver<D>::step_verlet(Real t, Real dt) {
   const Real clamped_energy = clamps_move ? clamped_kinetic_energy() : 0;
   if (clamps_move) clamp_work_ += 0.5 * dt * clamp_power();  // the trapezoidal rule, with the end's below
   parallel_for(exec, n_, VerletKickDrift<D>{acc_.data(), fixed_.data(), x_.data(), v_.data(), 0.5 * dt, dt});
-  prescribe_clamps(t + dt);
+  prescribe_clamps(exec, t + dt);
   evaluate(exec, t + dt);
   pair_evaluations_ += evaluation_passes() * static_cast<long long>(pairs());
   parallel_for(exec, n_, VerletKickDrift<D>{acc_.data(), fixed_.data(), x_.data(), v_.data(), 0.5 * dt, 0.0});
@@ -269,29 +271,21 @@ void TlsphSolver<D>::step_verlet(Real t, Real dt) {
 }
 
 template <int D>
-void TlsphSolver<D>::prescribe_clamps(Real t) {
+void TlsphSolver<D>::prescribe_clamps(const Exec& exec, Real t) {
   if (motions_.empty()) return;
-  for (Index a = 0; a < n_; ++a) {
-    if (motion_[a] < 0) continue;
-    x_[a] = motions_[motion_[a]].position(X_[a], t);
-    v_[a] = motions_[motion_[a]].velocity(X_[a], t);
-  }
+  clamp_poses_.resize(motions_.size());
+  for (std::size_t m = 0; m < motions_.size(); ++m) clamp_poses_[m] = motions_[m].pose(t);
+  parallel_for(exec, n_, PrescribeClamps<D>{motion_.data(), clamp_poses_.data(), X_.data(), x_.data(), v_.data()});
 }
 
 template <int D>
 Real TlsphSolver<D>::clamp_power() const {
-  Real p = 0;
-  for (Index a = 0; a < n_; ++a)
-    if (motion_[a] >= 0) p -= mass_[a] * dot(acc_[a], v_[a]);
-  return p;
+  return ordered_sum(waiting_exec(), n_, ClampPower<D>{motion_.data(), mass_.data(), acc_.data(), v_.data()}, block_sums_);
 }
 
 template <int D>
 Real TlsphSolver<D>::clamped_kinetic_energy() const {
-  Real e = 0;
-  for (Index a = 0; a < n_; ++a)
-    if (motion_[a] >= 0) e += 0.5 * mass_[a] * norm2(v_[a]);
-  return e;
+  return ordered_sum(waiting_exec(), n_, ClampedKineticEnergy<D>{motion_.data(), mass_.data(), v_.data()}, block_sums_);
 }
 
 template <int D>

@@ -145,11 +145,11 @@ class TlsphSolver {
   void rk4_launches(const Exec& exec, Real t, Real dt);
   void step_rk4(Real t, Real dt);
   void step_verlet(Real t, Real dt);
-  void prescribe_clamps(Real t);  // moving clamps: x and v at time t (a host loop)
+  void prescribe_clamps(const Exec& exec, Real t);  // moving clamps: x and v at time t (PrescribeClamps)
   // The power a moving clamp puts into the rest of the structure, -sum_c m_c acc_c · v_c over the
   // clamped particles c, with acc_c the acceleration they would have free (from the last evaluate):
   // the clamp holds them against it. With the change of their own kinetic energy, which the clamp
-  // also supplies, this is the clamp's work (clamp_work). A host loop.
+  // also supplies, this is the clamp's work (clamp_work). Summed in fixed blocks (ordered_sum).
   Real clamp_power() const;
   Real clamped_kinetic_energy() const;
   void make_state_device_visible();
@@ -178,11 +178,13 @@ class TlsphSolver {
   StateVector<Real> contact_radius_;
   StateVector<Vec<D>> X_, x_, v_, acc_;
   StateVector<Real> volume_, cell_moment_;
-  std::vector<Real> mass_;
+  StateVector<Real> mass_;
   StateVector<int> material_;
   StateVector<unsigned char> fixed_;
-  std::vector<Index> motion_;
+  StateVector<Index> motion_;
   std::vector<RigidMotion<D>> motions_;
+  StateVector<RigidPose<D>> clamp_poses_;  // each motion's pose at the time of the last prescribe_clamps
+  mutable StateVector<Real> block_sums_;   // ordered_sum's scratch
   Real clamp_work_ = 0, saved_clamp_work_ = 0;
   StateVector<Index> nbr_offset_, nbr_;
   StateVector<Vec<D>> cgrad_;

@@ -3,6 +3,7 @@
 // Every loop is a plain-data functor that writes only particle a, so it runs unchanged on the
 // host (OpenMP) and on a CUDA device through parallel_for.
 #include "core/types.hpp"
+#include "sim/prescribed_motion.hpp"
 
 namespace isph {
 
@@ -324,6 +325,39 @@ struct StartRungeKutta {
     x0[a] = x_sum[a] = x[a];
     v0[a] = v_sum[a] = v[a];
   }
+};
+
+// Moving clamps at time t: x = x(X, t) and v = v(X, t) of particle a's motion (pose[m], RigidPose).
+template <int D>
+struct PrescribeClamps {
+  const Index* motion;
+  const RigidPose<D>* pose;
+  const Vec<D>* X;
+  Vec<D>* x;
+  Vec<D>* v;
+  ISPH_HD void operator()(Index a) const {
+    if (motion[a] < 0) return;
+    x[a] = pose[motion[a]].position(X[a]);
+    v[a] = pose[motion[a]].velocity(X[a]);
+  }
+};
+
+// Per clamped particle c (0 for the others): the power the clamp puts in, -m_c acc_c · v_c, and its
+// kinetic energy m_c |v_c|^2 / 2 (TlsphSolver::clamp_power, clamped_kinetic_energy).
+template <int D>
+struct ClampPower {
+  const Index* motion;
+  const Real* mass;
+  const Vec<D>* acc;
+  const Vec<D>* v;
+  ISPH_HD Real operator()(Index a) const { return motion[a] >= 0 ? -mass[a] * dot(acc[a], v[a]) : 0; }
+};
+template <int D>
+struct ClampedKineticEnergy {
+  const Index* motion;
+  const Real* mass;
+  const Vec<D>* v;
+  ISPH_HD Real operator()(Index a) const { return motion[a] >= 0 ? 0.5 * mass[a] * norm2(v[a]) : 0; }
 };
 
 // The state kept for a repeated coupled step (save_state, restore_state): to = from for x and v.

@@ -1,5 +1,6 @@
 #include "core/device_memory.hpp"
 
+#include <atomic>
 #include <stdexcept>
 #include <string>
 
@@ -35,13 +36,32 @@ void copy_host_to_device(void* dst, const void* src, std::size_t bytes) {
 void copy_device_to_host(void* dst, const void* src, std::size_t bytes) {
   check(cudaMemcpy(dst, src, bytes, cudaMemcpyDefault), "cudaMemcpy to host");
 }
+namespace {
+std::atomic<std::size_t> live_managed_bytes{0};
+}  // namespace
+// Managed memory beyond the card's own would be paged in and out of it; that can hang the GPU, not only
+// this process. So the managed memory held at once is kept under kManagedShare of the device's memory;
+// the rest is left to plain allocations (the solvers' device copies), which fail cleanly when full.
 void* managed_allocate(std::size_t bytes) {
+  constexpr double kManagedShare = 0.8;
+  std::size_t free = 0, total = 0;
+  check(cudaMemGetInfo(&free, &total), "cudaMemGetInfo");
+  const std::size_t held = live_managed_bytes.load();
+  if (static_cast<double>(held + bytes) > kManagedShare * static_cast<double>(total)) {
+    constexpr double GiB = 1024.0 * 1024 * 1024;
+    throw std::runtime_error("managed memory: " + std::to_string((held + bytes) / GiB) + " GiB would exceed " +
+                             std::to_string(kManagedShare * 100) + " % of the device's " + std::to_string(total / GiB) +
+                             " GiB; run fewer particles, or a device with more memory");
+  }
   void* p = nullptr;
   check(cudaMallocManaged(&p, bytes), "cudaMallocManaged");
+  live_managed_bytes += bytes;
   return p;
 }
-void managed_free(void* p) {
-  if (p) cudaFree(p);
+void managed_free(void* p, std::size_t bytes) {
+  if (!p) return;
+  cudaFree(p);
+  live_managed_bytes -= bytes;
 }
 bool device_accessible(const void* p) {
   if (!p) return true;
@@ -97,7 +117,7 @@ void device_free(void*) {}
 void copy_host_to_device(void*, const void*, std::size_t) { throw std::runtime_error("this build has no CUDA backend"); }
 void copy_device_to_host(void*, const void*, std::size_t) { throw std::runtime_error("this build has no CUDA backend"); }
 void* managed_allocate(std::size_t) { throw std::runtime_error("this build has no CUDA backend"); }
-void managed_free(void*) {}
+void managed_free(void*, std::size_t) {}
 bool device_accessible(const void*) { return false; }
 LaunchGraph::LaunchGraph() { throw std::runtime_error("LaunchGraph: this build has no CUDA backend"); }
 LaunchGraph::~LaunchGraph() = default;

@@ -22,8 +22,9 @@ void copy_host_to_device(void* dst, const void* src, std::size_t bytes);
 void copy_device_to_host(void* dst, const void* src, std::size_t bytes);
 // CUDA managed memory: one address that the host and the device both read and write (the driver moves
 // the pages to whichever touches them). For state that the device steps and the host reads for output.
+// An allocation that would take the managed memory held beyond 80 % of the device's throws.
 void* managed_allocate(std::size_t bytes);
-void managed_free(void* p);
+void managed_free(void* p, std::size_t bytes);  // bytes: as allocated
 // Whether a kernel can read p: device or managed memory (a null pointer, an empty array's, counts as
 // readable). False for ordinary host memory, and always without CUDA.
 bool device_accessible(const void* p);
@@ -47,7 +48,7 @@ struct StateAllocator {
     return device_visible ? static_cast<T*>(managed_allocate(n * sizeof(T))) : std::allocator<T>{}.allocate(n);
   }
   void deallocate(T* p, std::size_t n) {
-    if (device_visible) managed_free(p);
+    if (device_visible) managed_free(p, n * sizeof(T));
     else std::allocator<T>{}.deallocate(p, n);
   }
   template <class U>

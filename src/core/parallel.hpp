@@ -96,6 +96,12 @@ struct IntegerSum {
   }
 };
 
+// The values of a per-particle array, as a functor Index -> Real (for parallel_reduce and ordered_sum).
+struct ScalarAt {
+  const Real* value;
+  ISPH_HD Real operator()(Index i) const { return value[i]; }
+};
+
 // combine over i in [0, n) of value(i), starting from identity (value: a functor Index -> T).
 template <class T, class F, class Combine>
 T parallel_reduce(const Exec& exec, Index n, T identity, const F& value, const Combine& combine) {

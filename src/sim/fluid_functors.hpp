@@ -3,6 +3,7 @@
 // writes only particle a and reads its neighbours; wall particles are skipped unless stated.
 #include "core/parallel.hpp"
 #include "sim/fluid_view.hpp"
+#include "sim/prescribed_motion.hpp"
 
 namespace isph {
 
@@ -211,7 +212,7 @@ struct Drift {
 };
 
 // Values reduced over the particles (parallel_reduce): |u|^2 of fluid particles (0 for the others);
-// a per-particle scalar; 1 for a fluid row with a Dirichlet condition (alpha = 0); a per-particle flag
+// a per-particle scalar (ScalarAt, core/parallel.hpp); 1 for a fluid row with a Dirichlet condition (alpha = 0); a per-particle flag
 // (to count, or to select); and the key id * 2^32 + a of the particles a selector accepts (the largest
 // key for the others), whose minimum names the selected particle of lowest stable id (lowest_id_particle).
 template <int D>
@@ -219,10 +220,6 @@ struct FluidSpeed2 {
   const FluidKind* kind;
   const Vec<D>* u;
   ISPH_HD Real operator()(Index a) const { return kind[a] == FluidKind::fluid ? norm2(u[a]) : 0; }
-};
-struct ScalarAt {
-  const Real* value;
-  ISPH_HD Real operator()(Index a) const { return value[a]; }
 };
 struct DirichletRow {
   const FluidKind* kind;
@@ -323,6 +320,48 @@ struct FollowStructure {
     const Vec<D> n = transpose(inverse(F[s])) * reference_normal[k];
     const Real len = sqrt(norm2(n));
     wall_normal[k] = len > 0 ? (1.0 / len) * n : Vec<D>::zero();
+  }
+};
+
+// Moving walls over [t, t + dt], from the pose of each motion at t and at t + dt (pose[2m], pose[2m + 1]):
+// from x(t) they move by their chord of the step, with the velocity (x(t + dt) - x(t))/dt (what the
+// fluid sees of a structure too, sim/coupling.hpp), the acceleration (v(t + dt) - v(t))/dt, and their
+// normals turned to t + dt.
+template <int D>
+struct PrescribeWalls {
+  const Index* motion;
+  const RigidPose<D>* pose;
+  const Vec<D>* reference_x;
+  const Vec<D>* reference_normal;
+  Real dt;
+  Periodicity<D> period;
+  Vec<D>* x;
+  Vec<D>* u;
+  Vec<D>* wall_velocity;
+  Vec<D>* wall_acceleration;
+  Vec<D>* wall_normal;
+  ISPH_HD void operator()(Index a) const {
+    if (motion[a] < 0) return;
+    const RigidPose<D>& now = pose[2 * motion[a]];
+    const RigidPose<D>& next = pose[2 * motion[a] + 1];
+    const Vec<D>& X = reference_x[a];
+    const Vec<D> start = now.position(X);
+    x[a] = period.wrap(start);
+    u[a] = wall_velocity[a] = (1.0 / dt) * (next.position(X) - start);
+    wall_acceleration[a] = (1.0 / dt) * (next.velocity(X) - now.velocity(X));
+    wall_normal[a] = next.R * reference_normal[a];
+  }
+};
+
+// Power of a moving wall particle's pressure force on the fluid, -V_w f_w · u_w (0 for the others).
+template <int D>
+struct MovingWallPressurePower {
+  const Index* motion;
+  const Real* volume;
+  const Vec<D>* boundary_force;
+  const Vec<D>* wall_velocity;
+  ISPH_HD Real operator()(Index a) const {
+    return motion[a] >= 0 ? -volume[a] * dot(boundary_force[a], wall_velocity[a]) : 0;
   }
 };
 

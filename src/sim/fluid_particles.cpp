@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/ordered_sum.hpp"
 #include "sim/fluid_functors.hpp"
 #include "structure/interaction.hpp"
 
@@ -57,7 +58,8 @@ FluidParticles<D>::FluidParticles(FluidSetup<D>& s)
   wall_acceleration_ = boundary_force_ = state_array(Vec<D>::zero());
   p_ = state_array(Real{0});
   for (auto* v : {&inside_, &permute_scratch_}) *v = StateVector<unsigned char>(state_allocator<unsigned char>());
-  for (auto* v : {&body_distance_, &body_depth_, &power_density_}) *v = StateVector<Real>(state_allocator<Real>());
+  for (auto* v : {&body_distance_, &body_depth_, &power_density_, &block_sums_}) *v = StateVector<Real>(state_allocator<Real>());
+  wall_poses_ = StateVector<RigidPose<D>>(state_allocator<RigidPose<D>>());
   has_structure_ = std::count(s.kind.begin(), s.kind.end(), FluidKind::structure) > 0;
   fluid_count_ = static_cast<Index>(std::count(s.kind.begin(), s.kind.end(), FluidKind::fluid));
   wall_count_ = static_cast<Index>(std::count(s.kind.begin(), s.kind.end(), FluidKind::wall));
@@ -165,21 +167,16 @@ void FluidParticles<D>::restore(const SnapshotData& snapshot) {
   wall_work_ = work != snapshot.attributes.end() ? work->second : 0;
 }
 
-// Moving walls over [t, t + dt]: from x(t) they move by their chord of the step, with the velocity
-// (x(t + dt) - x(t))/dt (what the fluid sees of a structure too, sim/coupling.hpp), the acceleration
-// (v(t + dt) - v(t))/dt, and their normals turned to t + dt.
 template <int D>
 void FluidParticles<D>::prescribe_walls(Real dt) {
-  for (Index a = 0; a < size(); ++a) {
-    if (motion_[a] < 0) continue;
-    const RigidMotion<D>& m = motions_[motion_[a]];
-    const Vec<D>& X = reference_x_[a];
-    const Vec<D> start = m.position(X, time_);
-    x_[a] = period_.wrap(start);
-    u_[a] = wall_velocity_[a] = (1.0 / dt) * (m.position(X, time_ + dt) - start);
-    wall_acceleration_[a] = (1.0 / dt) * (m.velocity(X, time_ + dt) - m.velocity(X, time_));
-    wall_normal_[a] = m.rotation(time_ + dt) * reference_normal_[a];
+  wall_poses_.resize(2 * motions_.size());
+  for (std::size_t m = 0; m < motions_.size(); ++m) {
+    wall_poses_[2 * m] = motions_[m].pose(time_);
+    wall_poses_[2 * m + 1] = motions_[m].pose(time_ + dt);
   }
+  parallel_for(exec_, size(), PrescribeWalls<D>{motion_.data(), wall_poses_.data(), reference_x_.data(),
+                                                reference_normal_.data(), dt, period_, x_.data(), u_.data(),
+                                                wall_velocity_.data(), wall_acceleration_.data(), wall_normal_.data()});
 }
 
 template <int D>
@@ -194,18 +191,16 @@ Vec<D> FluidParticles<D>::gather_structure_force(std::span<Vec<D>> force_density
 // viscous traction's.
 template <int D>
 Real FluidParticles<D>::moving_wall_power() const {
-  Real power = viscous_wall_power_;
-  for (Index a = 0; a < size(); ++a)
-    if (motion_[a] >= 0) power -= volume_[a] * dot(boundary_force_[a], wall_velocity_[a]);
-  return power;
+  return viscous_wall_power_ +
+         ordered_sum(exec_, size(), MovingWallPressurePower<D>{motion_.data(), volume_.data(), boundary_force_.data(),
+                                                               wall_velocity_.data()}, block_sums_);
 }
 
 template <int D>
 void FluidParticles<D>::record_viscous_wall_power(const ViscousAcceleration<D>& viscous) {
   power_density_.resize(x_.size());
   parallel_for(exec_, size(), ViscousWallPower<D>{viscous, density_, power_density_.data()});
-  viscous_wall_power_ = 0;
-  for (Index a = 0; a < size(); ++a) viscous_wall_power_ += power_density_[a];
+  viscous_wall_power_ = ordered_sum(exec_, size(), ScalarAt{power_density_.data()}, block_sums_);
 }
 
 template <int D>

@@ -210,7 +210,7 @@ class FluidParticles {
   StateVector<T> state_array(const T& value) const {
     return StateVector<T>(static_cast<std::size_t>(size()), value, state_allocator<T>());
   }
-  // Moving walls over [t, t + dt] (t = time_).
+  // Moving walls over [t, t + dt] (t = time_; PrescribeWalls).
   void prescribe_walls(Real dt);
   // From the boundary force per unit volume (boundary_force_, filled by the model): the force density
   // on the structure particles indexed as in TLSPH, and its sum; the power of the moving walls on the fluid.
@@ -245,7 +245,9 @@ class FluidParticles {
   Real time_ = 0, wall_work_ = 0;
   Real viscous_wall_power_ = 0;
   StateVector<Real> power_density_;  // per-particle work array of record_viscous_wall_power
+  mutable StateVector<Real> block_sums_;  // ordered_sum's scratch
   std::vector<RigidMotion<D>> motions_;
+  StateVector<RigidPose<D>> wall_poses_;  // each motion's pose at t and t + dt (prescribe_walls)
   Real density_, viscosity_, dx_, reference_velocity_;
   SmoothingKernel<D> kernel_;
   Periodicity<D> period_;

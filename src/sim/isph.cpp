@@ -80,10 +80,10 @@ void IsphSolver<D>::compress_matrix() {
   const CsrMatrix& full = full_matrix_;
   const Index n = full.rows;
   matrix_.rows = n;
-  matrix_.row_offset.assign(n + 1, 0);
-  parallel_for(exec_, n, CountRowEntries{full.row_offset.data(), full.col.data(), full.val.data(),
-                                         matrix_.row_offset.data() + 1});
-  inclusive_scan(exec_, matrix_.row_offset.data() + 1, n);
+  matrix_.row_offset.resize(n + 1);  // filled by the loop, not on the host (managed memory stays on the device)
+  parallel_for(exec_, n + 1, CountRowEntries{full.row_offset.data(), full.col.data(), full.val.data(),
+                                             matrix_.row_offset.data()});
+  inclusive_scan(exec_, matrix_.row_offset.data(), n + 1);
   matrix_.col.resize(matrix_.row_offset[n]);
   matrix_.val.resize(matrix_.row_offset[n]);
   parallel_for(exec_, n, CompactRow{full.row_offset.data(), full.col.data(), full.val.data(),

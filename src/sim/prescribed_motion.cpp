@@ -103,37 +103,23 @@ RigidMotion<D>::RigidMotion(const MotionSpec& m) : profile_(m), s0_(profile_.val
 }
 
 template <int D>
-Mat<D> RigidMotion<D>::rotation(Real t) const {
-  Mat<D> R = Mat<D>::identity();
-  if constexpr (D == 2) {
-    if (rotates_) {
-      const Real theta = (profile_.value(t) - s0_) * M_PI / 180;
-      R(0, 0) = R(1, 1) = std::cos(theta);
-      R(1, 0) = std::sin(theta);
-      R(0, 1) = -R(1, 0);
-    }
+RigidPose<D> RigidMotion<D>::pose(Real t) const {
+  RigidPose<D> p;
+  p.rotates = rotates_;
+  if (!rotates_) {
+    p.shift = (profile_.value(t) - s0_) * direction_;
+    p.shift_rate = profile_.rate(t) * direction_;
+    return p;
   }
-  return R;
-}
-
-template <int D>
-Vec<D> RigidMotion<D>::position(const Vec<D>& X, Real t) const {
-  if (rotates_) return pivot_ + rotation(t) * (X - pivot_);
-  return X + (profile_.value(t) - s0_) * direction_;
-}
-
-template <int D>
-Vec<D> RigidMotion<D>::velocity(const Vec<D>& X, Real t) const {
-  if (!rotates_) return profile_.rate(t) * direction_;
-  // v = omega e_z x (x - pivot), omega = dtheta/dt in rad/s
-  const Vec<D> r = rotation(t) * (X - pivot_);
-  Vec<D> v = Vec<D>::zero();
   if constexpr (D == 2) {
-    const Real omega = profile_.rate(t) * M_PI / 180;
-    v[0] = -omega * r[1];
-    v[1] = omega * r[0];
+    const Real theta = (profile_.value(t) - s0_) * M_PI / 180;
+    p.R(0, 0) = p.R(1, 1) = std::cos(theta);
+    p.R(1, 0) = std::sin(theta);
+    p.R(0, 1) = -p.R(1, 0);
+    p.pivot = pivot_;
+    p.omega = profile_.rate(t) * M_PI / 180;
   }
-  return v;
+  return p;
 }
 
 template class RigidMotion<2>;

@@ -28,15 +28,37 @@ class MotionProfile {
   Index interval(Real t) const;
 };
 
+// A rigid motion at one time, as plain data that device loops read: a translation x = X + shift with
+// velocity shift_rate, or a turn by R about `pivot`, x = pivot + R (X - pivot), with the angular rate
+// omega [rad/s] and velocity v = omega e_z x (x - pivot) (2D).
+template <int D>
+struct RigidPose {
+  bool rotates = false;
+  Mat<D> R = Mat<D>::identity();
+  Vec<D> pivot = Vec<D>::zero();
+  Vec<D> shift = Vec<D>::zero(), shift_rate = Vec<D>::zero();
+  Real omega = 0;
+  ISPH_HD Vec<D> position(const Vec<D>& X) const { return rotates ? pivot + R * (X - pivot) : X + shift; }
+  ISPH_HD Vec<D> velocity(const Vec<D>& X) const {
+    if (!rotates) return shift_rate;
+    const Vec<D> r = R * (X - pivot);
+    Vec<D> v = Vec<D>::zero();
+    v[0] = -omega * r[1];
+    v[1] = omega * r[0];
+    return v;
+  }
+};
+
 // x(X, t) of a motion and its velocity: X moves by s(t) - s(0) (a rotation in 2D: turns about `pivot`
 // by that many degrees), so that X is the position at t = 0.
 template <int D>
 class RigidMotion {
  public:
   explicit RigidMotion(const MotionSpec& m);
-  Vec<D> position(const Vec<D>& X, Real t) const;
-  Vec<D> velocity(const Vec<D>& X, Real t) const;
-  Mat<D> rotation(Real t) const;  // identity for translations
+  RigidPose<D> pose(Real t) const;
+  Vec<D> position(const Vec<D>& X, Real t) const { return pose(t).position(X); }
+  Vec<D> velocity(const Vec<D>& X, Real t) const { return pose(t).velocity(X); }
+  Mat<D> rotation(Real t) const { return pose(t).R; }  // identity for translations
 
  private:
   bool rotates_ = false;

@@ -1,12 +1,16 @@
 // The launcher's collective primitives on the GPU against the host: parallel_reduce (max, min,
-// integer sum) and inclusive_scan, on fresh random data of several sizes.
+// integer sum), the ordered floating-point sum (the same bits) and inclusive_scan, on fresh random
+// data of several sizes; and the guard that keeps managed memory within the card.
 // Skipped without a CUDA device.
 #include <gtest/gtest.h>
+
+#include <cuda_runtime.h>
 
 #include <random>
 #include <vector>
 
 #include "core/device_memory.hpp"
+#include "core/ordered_sum.hpp"
 #include "core/parallel.hpp"
 #include "gpu_skip.hpp"
 
@@ -40,9 +44,28 @@ TEST(DevicePrimitives, ReduceAndScanMatchTheHost) {
     EXPECT_EQ(parallel_reduce(gpu, n, 1e300, At{dv.data()}, MinOf{}), parallel_reduce(host, n, 1e300, At{v.data()}, MinOf{}));
     EXPECT_EQ(parallel_reduce(gpu, n, Index{0}, IntAt{dk.data()}, IntegerSum{}),
               parallel_reduce(host, n, Index{0}, IntAt{k.data()}, IntegerSum{}));
+    StateVector<double> device_partial(StateAllocator<double>(true)), host_partial;
+    EXPECT_EQ(ordered_sum(gpu, n, At{dv.data()}, device_partial), ordered_sum(host, n, At{v.data()}, host_partial)) << n;
     DeviceArray<Index> scanned(k);  // the scan works in place
     inclusive_scan(gpu, scanned.data(), n);
     inclusive_scan(host, k.data(), n);
     EXPECT_EQ(scanned.to_host(), k) << n;
   }
+}
+
+// Managed memory beyond the card could hang the GPU: a request for more than the guard's share of the
+// device is refused with an error, also when memory already held takes it there, and succeeds once
+// that memory is released (the pages are never touched: nothing is moved).
+TEST(DevicePrimitives, ManagedMemoryBeyondTheCardIsRefused) {
+  ISPH_SKIP_WITHOUT_GPU();
+  std::size_t free = 0, total = 0;
+  ASSERT_EQ(cudaMemGetInfo(&free, &total), cudaSuccess);
+  EXPECT_THROW(managed_allocate(total), std::runtime_error);
+  const std::size_t half = total / 2;
+  void* held = managed_allocate(half);
+  EXPECT_THROW(managed_allocate(half), std::runtime_error);
+  managed_free(held, half);
+  void* again = managed_allocate(half);
+  EXPECT_NE(again, nullptr);
+  managed_free(again, half);
 }

@@ -1,5 +1,5 @@
-// The launcher's collective primitives on the host: parallel_reduce with its exact combinations, and
-// the inclusive scan that turns counts into the ends of CSR rows.
+// The launcher's collective primitives on the host: parallel_reduce with its exact combinations, the
+// ordered floating-point sum, and the inclusive scan that turns counts into the ends of CSR rows.
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "core/ordered_sum.hpp"
 #include "core/parallel.hpp"
 
 using namespace isph;
@@ -42,6 +43,34 @@ TEST(Parallel, ReduceIsExactForAnyThreadCount) {
     EXPECT_EQ(parallel_reduce(Exec{}, 0, -7.0, At{v.data()}, MaxOf{}), -7.0);
   }
   omp_set_num_threads(threads);
+}
+
+// ordered_sum over enough blocks of 256 for the launcher to run them on two threads: the same bits on
+// 1 and 2 threads, those of the block sums added in order, and the exact sum to rounding.
+TEST(Parallel, OrderedSumIsTheSameForAnyThreadCount) {
+  std::mt19937 rng(20261202);
+  std::normal_distribution<double> normal;
+  const Index n = 256 * (kMinParallelLoop + 3) + 17;
+  std::vector<double> v(n);
+  for (double& e : v) e = normal(rng);
+  double blocked = 0;
+  long double exact = 0;
+  for (Index k = 0; k < n; k += 256) {
+    double s = 0;
+    for (Index i = k; i < std::min(n, k + 256); ++i) s += v[i];
+    blocked += s;
+  }
+  for (double e : v) exact += e;
+  StateVector<double> partial;
+  const int threads = omp_get_max_threads();
+  for (int t : {1, 2}) {
+    omp_set_num_threads(t);
+    const double sum = ordered_sum(Exec{}, n, ScalarAt{v.data()}, partial);
+    EXPECT_EQ(sum, blocked) << t << " threads";
+    EXPECT_NEAR(sum, static_cast<double>(exact), 1e-12 * n);
+  }
+  omp_set_num_threads(threads);
+  EXPECT_EQ(ordered_sum(Exec{}, 0, ScalarAt{v.data()}, partial), 0.0);
 }
 
 TEST(Parallel, InclusiveScanGivesRowEnds) {
