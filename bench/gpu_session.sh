@@ -12,7 +12,8 @@
 #   tests   : the device tests with ISPH_REQUIRE_GPU_TESTS=1 (a skip is a failure)
 #   sanitize: the device tests under compute-sanitizer memcheck (out-of-bounds and misaligned accesses)
 #   pairs   : isph_pair_bench, 1e4 to 4e6 particles, host (all cores) and GPU
-#   spmv    : isph_ppe_bench --spmv-only, cuSPARSE and host SpMV against the copy bandwidth
+#   spmv    : isph_ppe_bench --spmv-only, cuSPARSE, the vector CSR kernel and the host SpMV against the
+#             copy bandwidth
 #   solvers : isph_ppe_bench, every backend on the manufactured PPE at 1e5 and 1e6 unknowns
 #   substeps: isph_substep_bench, one RK4 structure step from 540 to 2e6 particles: host, device with
 #             launches one by one, device with a CUDA graph
@@ -28,8 +29,11 @@
 # A lent machine has 15 minutes of device time, its start included. With SESSION_SECONDS set, a step
 # that would begin later than that many seconds after the script started is skipped (and says so), so
 # that the script returns inside the run's timeout with what it has. Suggested first call (about
-# 9 minutes; a build without HDF5 and hypre carried in .gpu-build):
-#   SESSION_SECONDS=420 bash bench/gpu_session.sh .gpu-build "$OUT" tests fluid pairs spmv large
+# 9 minutes), with a build without HDF5 and hypre made here beforehand,
+#   cmake -S . -B .gpu-build -DISPH_CUDA=ON -DISPH_HDF5=OFF -DISPH_HYPRE=OFF -DCMAKE_BUILD_TYPE=Release
+#   cmake --build .gpu-build -j2 --target isph isph_device_tests isph_pair_bench isph_ppe_bench isph_substep_bench
+# and only its five programs carried (the device tool's carry: .gpu-build/isph, .gpu-build/isph_device_tests, ...):
+#   SESSION_SECONDS=420 bash bench/gpu_session.sh .gpu-build "$OUT" tests spmv fluid large
 set -u -o pipefail
 build=${1:?build directory}
 out=${2:?output directory}
@@ -37,6 +41,8 @@ shift 2
 steps=${*:-tests sanitize pairs spmv solvers substeps plate fluid large}
 mkdir -p "$out"
 export LD_LIBRARY_PATH=/usr/local/cuda/lib64:/usr/local/cuda/lib:${LD_LIBRARY_PATH:-}
+# The device tests run cases from this checkout with this build's isph, wherever both were built.
+export ISPH_TEST_SOURCE_DIR="$PWD" ISPH_TEST_BINARY="$(cd "$build" && pwd)/isph"
 
 nvidia-smi --query-gpu=name,memory.total,driver_version,clocks.sm,clocks.mem --format=csv | tee "$out/gpu.txt"
 nproc | sed 's/^/cores: /' | tee -a "$out/gpu.txt"
@@ -49,6 +55,7 @@ if ! "$build/isph_device_tests" --gtest_list_tests >/dev/null 2>&1; then
     cmake --build build-device -j "$(nproc)" --target isph isph_device_tests isph_pair_bench isph_ppe_bench \
       >>"$out/build.log" 2>&1 || { tail -40 "$out/build.log"; exit 1; }
   build=build-device
+  export ISPH_TEST_BINARY="$PWD/build-device/isph"
 fi
 
 status=0

@@ -190,12 +190,21 @@ int main(int argc, char** argv) {
     const HostSpmv host = host_spmv(p.A, p.x_star, spmv_repeats);
     row("host (OpenMP CSR rows)", host.seconds, host_copy_bandwidth());
     if (gpu) {
-      for (auto algorithm : {SpmvAlgorithm::reproducible, SpmvAlgorithm::default_csr}) {
-        const SpmvMeasurement m = measure_cuda_spmv(p.A, p.x_star, spmv_repeats, algorithm);
-        if (relative_difference(m.y, host.y) > 1e-12) std::printf("<!-- cuSPARSE and host products differ -->\n");
-        row(algorithm == SpmvAlgorithm::reproducible ? "cuSPARSE CSR_ALG2 (reproducible; the solver's)"
-                                                      : "cuSPARSE CSR_ALG1 (default)",
-            m.seconds_per_product, m.copy_bandwidth);
+      const int chosen = vector_csr_lanes(double(p.A.val.size()) / p.A.rows);
+      const struct {
+        SpmvAlgorithm algorithm;
+        int lanes;
+      } variants[] = {{SpmvAlgorithm::reproducible, 0}, {SpmvAlgorithm::default_csr, 0}, {SpmvAlgorithm::vector_csr, 4},
+                      {SpmvAlgorithm::vector_csr, 8}, {SpmvAlgorithm::vector_csr, 16}};
+      for (const auto& v : variants) {
+        const SpmvMeasurement m = measure_cuda_spmv(p.A, p.x_star, spmv_repeats, v.algorithm, v.lanes);
+        if (relative_difference(m.y, host.y) > 1e-12) std::printf("<!-- device and host products differ -->\n");
+        const std::string name =
+            v.algorithm == SpmvAlgorithm::reproducible ? "cuSPARSE CSR_ALG2 (reproducible; the solver's)"
+            : v.algorithm == SpmvAlgorithm::default_csr
+                ? "cuSPARSE CSR_ALG1 (default)"
+                : "vector CSR, " + std::to_string(v.lanes) + " lanes per row" + (v.lanes == chosen ? " (its choice)" : "");
+        row(name.c_str(), m.seconds_per_product, m.copy_bandwidth);
       }
     }
   }

@@ -14,7 +14,7 @@ std::unique_ptr<LinearSolver> make_cuda_solver(const SolverSettings&) {
 }
 }  // namespace detail
 
-SpmvMeasurement measure_cuda_spmv(const CsrMatrix&, const std::vector<double>&, int, SpmvAlgorithm) {
+SpmvMeasurement measure_cuda_spmv(const CsrMatrix&, const std::vector<double>&, int, SpmvAlgorithm, int) {
   throw std::runtime_error("measure_cuda_spmv: this build has no CUDA backend");
 }
 }  // namespace isph

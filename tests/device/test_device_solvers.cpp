@@ -1,5 +1,6 @@
 // The cuda solver backend against the native one (the same BiCGSTAB on the host), on fresh random
-// systems: the cuSPARSE product against the host product, and whole solves with every preconditioner.
+// systems: the cuSPARSE product and the vector CSR kernel against the host product, and whole solves with
+// every preconditioner.
 // Skipped without a CUDA device; ISPH_REQUIRE_GPU_TESTS=1 makes the skip a failure.
 #include <gtest/gtest.h>
 
@@ -71,6 +72,51 @@ TEST(DeviceSolvers, CusparseProductMatchesTheHostProduct) {
     EXPECT_GT(m.seconds_per_product, 0.0);
     EXPECT_GT(m.copy_bandwidth, 0.0);
   }
+}
+
+// A CSR matrix of `rows` rows of random length 0 to max_length (so that rows run longer than 32 lanes
+// and some are empty), random columns and values in [-1, 1].
+CsrMatrix random_rows(int rows, int max_length, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> length(0, max_length), column(0, rows - 1);
+  std::uniform_real_distribution<double> value(-1.0, 1.0);
+  CsrMatrix A;
+  A.rows = rows;
+  A.row_offset.assign(1, 0);
+  for (int i = 0; i < rows; ++i) {
+    std::vector<int> cols(length(rng));
+    for (int& c : cols) c = column(rng);
+    std::sort(cols.begin(), cols.end());
+    cols.erase(std::unique(cols.begin(), cols.end()), cols.end());
+    for (int c : cols) A.col.push_back(c), A.val.push_back(value(rng));
+    A.row_offset.push_back(static_cast<int>(A.col.size()));
+  }
+  return A;
+}
+
+// The vector CSR kernel with every lane count, on fresh random matrices whose rows are empty, shorter
+// and longer than the lanes: within a relative 1e-12 of the host product in every row (the output
+// poisoned with NaN first), and the same bits from one product to the next.
+TEST(DeviceSolvers, VectorCsrProductMatchesTheHostProduct) {
+  ISPH_SKIP_WITHOUT_GPU();
+  std::random_device seed;
+  for (int lanes : {2, 4, 8, 16, 32})
+    for (const CsrMatrix& A : {random_rows(1000 + lanes, 80, seed()), random_matrix(150, seed())}) {
+      const auto x = random_vector(A.rows, seed());
+      const auto expected = host_product(A, x);
+      const SpmvMeasurement m = measure_cuda_spmv(A, x, 2, SpmvAlgorithm::vector_csr, lanes);
+      const SpmvMeasurement again = measure_cuda_spmv(A, x, 1, SpmvAlgorithm::vector_csr, lanes);
+      ASSERT_EQ(m.y.size(), expected.size());
+      double worst = 0;
+      for (int i = 0; i < A.rows; ++i) {
+        double scale = 0;  // the row's largest term: entries may cancel
+        for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k) scale = std::max(scale, std::abs(A.val[k] * x[A.col[k]]));
+        const double diff = std::abs(m.y[i] - expected[i]);
+        worst = std::max(worst, diff == diff ? diff / (scale + 1e-300) : INFINITY);
+      }
+      EXPECT_LT(worst, 1e-12) << lanes << " lanes, " << A.rows << " rows";
+      EXPECT_EQ(m.y, again.y) << lanes << " lanes";
+    }
 }
 
 // The same algorithm on both devices. The first 20 iterations give the same iterate (to 1e-10: only the

@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -15,7 +16,14 @@ namespace fs = std::filesystem;
 
 namespace regression {
 
-inline const std::string kCases = std::string(ISPH_SOURCE_DIR) + "/cases/";
+// The source tree and the isph binary of the build; ISPH_TEST_SOURCE_DIR and ISPH_TEST_BINARY replace
+// them where the programs were carried elsewhere (bench/gpu_session.sh on a lent GPU machine).
+inline std::string from_environment(const char* name, const char* built_with) {
+  const char* v = std::getenv(name);
+  return v && *v ? v : built_with;
+}
+inline const std::string kCases = from_environment("ISPH_TEST_SOURCE_DIR", ISPH_SOURCE_DIR) + "/cases/";
+inline const std::string kIsph = from_environment("ISPH_TEST_BINARY", ISPH_BINARY);
 
 struct CommandResult {
   int status;
@@ -26,7 +34,7 @@ struct CommandResult {
 // on oversubscribed cores slow a run down many times over.
 inline CommandResult isph(const std::string& args) {
   const bool run = args.rfind("run ", 0) == 0;
-  const std::string cmd = std::string(ISPH_BINARY) + " " + args + (run ? " --threads 1" : "") + " 2>&1";
+  const std::string cmd = kIsph + " " + args + (run ? " --threads 1" : "") + " 2>&1";
   FILE* pipe = popen(cmd.c_str(), "r");
   std::string out;
   char buf[4096];

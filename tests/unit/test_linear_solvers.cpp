@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/device_memory.hpp"
+#include "poisson/cuda_solver.hpp"
 #include "poisson/linear_solver.hpp"
 #include "poisson/manufactured_system.hpp"
 
@@ -470,4 +471,16 @@ TEST(LinearSolver, RepeatedHypreSolvesDoNotLeak) {
   }
   const long grown = resident_kib() - before;
   EXPECT_LT(grown, 4 * 1024) << "resident memory grew by " << grown << " KiB over 30 solves";
+}
+
+// The vector CSR kernel's threads per row: about three entries each, a power of two from 2 to 32 (the
+// 2D PPE's 21 entries per row get 8; a 3D PPE's 60-80 get 16 to 32).
+TEST(VectorCsr, LanesGiveAboutThreeEntriesEach) {
+  EXPECT_EQ(vector_csr_lanes(0.0), 2);
+  EXPECT_EQ(vector_csr_lanes(5.0), 2);
+  EXPECT_EQ(vector_csr_lanes(12.0), 4);
+  EXPECT_EQ(vector_csr_lanes(21.0), 8);
+  EXPECT_EQ(vector_csr_lanes(60.0), 16);
+  EXPECT_EQ(vector_csr_lanes(80.0), 32);
+  EXPECT_EQ(vector_csr_lanes(1000.0), 32);
 }
