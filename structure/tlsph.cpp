@@ -280,12 +280,12 @@ void TlsphSolver<D>::prescribe_clamps(const Exec& exec, Real t) {
 
 template <int D>
 Real TlsphSolver<D>::clamp_power() const {
-  return ordered_sum(waiting_exec(), n_, ClampPower<D>{motion_.data(), mass_.data(), acc_.data(), v_.data()}, block_sums_);
+  return ordered_sum(waiting_exec(), n_, PowerTerm<D>{motion_.data(), mass_.data(), acc_.data(), v_.data(), -1.0}, block_sums_);
 }
 
 template <int D>
 Real TlsphSolver<D>::clamped_kinetic_energy() const {
-  return ordered_sum(waiting_exec(), n_, ClampedKineticEnergy<D>{motion_.data(), mass_.data(), v_.data()}, block_sums_);
+  return ordered_sum(waiting_exec(), n_, KineticEnergyTerm<D>{motion_.data(), mass_.data(), v_.data()}, block_sums_);
 }
 
 template <int D>
@@ -296,18 +296,12 @@ Mat<D> TlsphSolver<D>::cauchy_stress(Index a) const {
 
 template <int D>
 Real TlsphSolver<D>::kinetic_energy() const {
-  Real e = 0;
-#pragma omp parallel for reduction(+ : e)
-  for (Index a = 0; a < n_; ++a) e += 0.5 * mass_[a] * norm2(v_[a]);
-  return e;
+  return ordered_sum(waiting_exec(), n_, KineticEnergyTerm<D>{nullptr, mass_.data(), v_.data()}, block_sums_);
 }
 
 template <int D>
 Real TlsphSolver<D>::strain_energy() const {
-  Real e = 0;
-#pragma omp parallel for reduction(+ : e)
-  for (Index a = 0; a < n_; ++a) e += volume_[a] * psi_[a];
-  return e;
+  return ordered_sum(waiting_exec(), n_, StrainEnergyTerm{volume_.data(), psi_.data()}, block_sums_);
 }
 
 template <int D>
@@ -325,10 +319,7 @@ typename TlsphSolver<D>::ObstacleContact TlsphSolver<D>::obstacle_contact() cons
 
 template <int D>
 Real TlsphSolver<D>::potential_energy() const {
-  Real e = 0;
-#pragma omp parallel for reduction(+ : e)
-  for (Index a = 0; a < n_; ++a) e -= mass_[a] * dot(gravity_, x_[a] - X_[a]);
-  return e;
+  return ordered_sum(waiting_exec(), n_, GravityEnergyTerm<D>{mass_.data(), gravity_, x_.data(), X_.data()}, block_sums_);
 }
 
 template <int D>
@@ -393,22 +384,17 @@ void TlsphSolver<D>::set_motion(std::span<const Vec<D>> x, std::span<const Vec<D
 
 template <int D>
 Real TlsphSolver<D>::interaction_power() const {
-  Real p = 0;
-  if (interaction_.empty()) return p;
-#pragma omp parallel for reduction(+ : p)
-  for (Index a = 0; a < n_; ++a) p += mass_[a] * dot(interaction_[a], v_[a]);
-  return p;
+  if (interaction_.empty()) return 0;
+  return ordered_sum(waiting_exec(), n_, PowerTerm<D>{nullptr, mass_.data(), interaction_.data(), v_.data(), 1.0}, block_sums_);
 }
 
 template <int D>
 Real TlsphSolver<D>::external_power(Real t) const {
   Real p = 0;
-  for (std::size_t l = 0; l < loads_.size(); ++l) {
-    const Real f = loads_[l].factor(t);
-    const auto& acc = loads_[l].acc;
-#pragma omp parallel for reduction(+ : p)
-    for (Index a = 0; a < n_; ++a) p += f * mass_[a] * dot(acc[a], v_[a]);
-  }
+  for (std::size_t l = 0; l < loads_.size(); ++l)  // load l's field is load_acc_[l n, (l + 1) n)
+    p += ordered_sum(waiting_exec(), n_,
+                     PowerTerm<D>{nullptr, mass_.data(), load_acc_.data() + l * n_, v_.data(), loads_[l].factor(t)},
+                     block_sums_);
   return p;
 }
 

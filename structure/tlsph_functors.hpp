@@ -342,22 +342,43 @@ struct PrescribeClamps {
   }
 };
 
-// Per clamped particle c (0 for the others): the power the clamp puts in, -m_c acc_c · v_c, and its
-// kinetic energy m_c |v_c|^2 / 2 (TlsphSolver::clamp_power, clamped_kinetic_energy).
+// Per-particle terms of the structure's energy books, summed by ordered_sum (TlsphSolver): the kinetic
+// energy m_a |v_a|^2 / 2 and the power factor m_a acc_a · v_a of an acceleration field (the interaction,
+// a load, or, with factor -1, what a clamp holds its particles against: TlsphSolver::clamp_power), of
+// every particle or, with clamped_by given, of the clamped ones only (those with a motion); the strain
+// energy V_a psi_a; and the potential energy of gravity -m_a g · (x_a - X_a).
 template <int D>
-struct ClampPower {
-  const Index* motion;
+struct KineticEnergyTerm {
+  const Index* clamped_by;  // null: every particle
+  const Real* mass;
+  const Vec<D>* v;
+  ISPH_HD Real operator()(Index a) const {
+    return clamped_by && clamped_by[a] < 0 ? 0 : 0.5 * mass[a] * norm2(v[a]);
+  }
+};
+template <int D>
+struct PowerTerm {
+  const Index* clamped_by;  // null: every particle
   const Real* mass;
   const Vec<D>* acc;
   const Vec<D>* v;
-  ISPH_HD Real operator()(Index a) const { return motion[a] >= 0 ? -mass[a] * dot(acc[a], v[a]) : 0; }
+  Real factor;
+  ISPH_HD Real operator()(Index a) const {
+    return clamped_by && clamped_by[a] < 0 ? 0 : factor * mass[a] * dot(acc[a], v[a]);
+  }
+};
+struct StrainEnergyTerm {
+  const Real* volume;
+  const Real* psi;
+  ISPH_HD Real operator()(Index a) const { return volume[a] * psi[a]; }
 };
 template <int D>
-struct ClampedKineticEnergy {
-  const Index* motion;
+struct GravityEnergyTerm {
   const Real* mass;
-  const Vec<D>* v;
-  ISPH_HD Real operator()(Index a) const { return motion[a] >= 0 ? 0.5 * mass[a] * norm2(v[a]) : 0; }
+  Vec<D> gravity;
+  const Vec<D>* x;
+  const Vec<D>* X;
+  ISPH_HD Real operator()(Index a) const { return -mass[a] * dot(gravity, x[a] - X[a]); }
 };
 
 // The state kept for a repeated coupled step (save_state, restore_state): to = from for x and v.
