@@ -212,9 +212,10 @@ struct Drift {
 };
 
 // Values reduced over the particles (parallel_reduce): |u|^2 of fluid particles (0 for the others);
-// a per-particle scalar (ScalarAt, core/parallel.hpp); 1 for a fluid row with a Dirichlet condition (alpha = 0); a per-particle flag
-// (to count, or to select); and the key id * 2^32 + a of the particles a selector accepts (the largest
-// key for the others), whose minimum names the selected particle of lowest stable id (lowest_id_particle).
+// (a per-particle scalar: ScalarAt, core/parallel.hpp); 1 for a fluid row with a Dirichlet condition
+// (alpha = 0); a per-particle flag (to count, or to select); and the key id * 2^32 + a of the particles
+// a selector accepts (the largest key for the others), whose minimum names the selected particle of
+// lowest stable id (lowest_id_particle).
 template <int D>
 struct FluidSpeed2 {
   const FluidKind* kind;
