@@ -44,8 +44,8 @@ std::atomic<std::size_t> live_managed_bytes{0};
 // the rest is left to plain allocations (the solvers' device copies), which fail cleanly when full.
 void* managed_allocate(std::size_t bytes) {
   constexpr double kManagedShare = 0.8;
-  std::size_t free = 0, total = 0;
-  check(cudaMemGetInfo(&free, &total), "cudaMemGetInfo");
+  std::size_t free_bytes = 0, total = 0;
+  check(cudaMemGetInfo(&free_bytes, &total), "cudaMemGetInfo");
   const std::size_t held = live_managed_bytes.load();
   if (static_cast<double>(held + bytes) > kManagedShare * static_cast<double>(total)) {
     constexpr double GiB = 1024.0 * 1024 * 1024;

@@ -17,10 +17,6 @@
 using namespace isph;
 
 namespace {
-struct At {
-  const double* v;
-  ISPH_HD double operator()(Index i) const { return v[i]; }
-};
 struct IntAt {
   const Index* v;
   ISPH_HD Index operator()(Index i) const { return v[i]; }
@@ -40,12 +36,12 @@ TEST(DevicePrimitives, ReduceAndScanMatchTheHost) {
     const DeviceArray<double> dv(v);
     const DeviceArray<Index> dk(k);
     const Exec gpu{Device::cuda}, host{};
-    EXPECT_EQ(parallel_reduce(gpu, n, -1e300, At{dv.data()}, MaxOf{}), parallel_reduce(host, n, -1e300, At{v.data()}, MaxOf{}));
-    EXPECT_EQ(parallel_reduce(gpu, n, 1e300, At{dv.data()}, MinOf{}), parallel_reduce(host, n, 1e300, At{v.data()}, MinOf{}));
+    EXPECT_EQ(parallel_reduce(gpu, n, -1e300, ScalarAt{dv.data()}, MaxOf{}), parallel_reduce(host, n, -1e300, ScalarAt{v.data()}, MaxOf{}));
+    EXPECT_EQ(parallel_reduce(gpu, n, 1e300, ScalarAt{dv.data()}, MinOf{}), parallel_reduce(host, n, 1e300, ScalarAt{v.data()}, MinOf{}));
     EXPECT_EQ(parallel_reduce(gpu, n, Index{0}, IntAt{dk.data()}, IntegerSum{}),
               parallel_reduce(host, n, Index{0}, IntAt{k.data()}, IntegerSum{}));
     StateVector<double> device_partial(StateAllocator<double>(true)), host_partial;
-    EXPECT_EQ(ordered_sum(gpu, n, At{dv.data()}, device_partial), ordered_sum(host, n, At{v.data()}, host_partial)) << n;
+    EXPECT_EQ(ordered_sum(gpu, n, ScalarAt{dv.data()}, device_partial), ordered_sum(host, n, ScalarAt{v.data()}, host_partial)) << n;
     DeviceArray<Index> scanned(k);  // the scan works in place
     inclusive_scan(gpu, scanned.data(), n);
     inclusive_scan(host, k.data(), n);
@@ -58,8 +54,8 @@ TEST(DevicePrimitives, ReduceAndScanMatchTheHost) {
 // that memory is released (the pages are never touched: nothing is moved).
 TEST(DevicePrimitives, ManagedMemoryBeyondTheCardIsRefused) {
   ISPH_SKIP_WITHOUT_GPU();
-  std::size_t free = 0, total = 0;
-  ASSERT_EQ(cudaMemGetInfo(&free, &total), cudaSuccess);
+  std::size_t free_bytes = 0, total = 0;
+  ASSERT_EQ(cudaMemGetInfo(&free_bytes, &total), cudaSuccess);
   EXPECT_THROW(managed_allocate(total), std::runtime_error);
   const std::size_t half = total / 2;
   void* held = managed_allocate(half);

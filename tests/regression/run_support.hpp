@@ -22,7 +22,8 @@ inline std::string from_environment(const char* name, const char* built_with) {
   const char* v = std::getenv(name);
   return v && *v ? v : built_with;
 }
-inline const std::string kCases = from_environment("ISPH_TEST_SOURCE_DIR", ISPH_SOURCE_DIR) + "/cases/";
+inline const std::string kSource = from_environment("ISPH_TEST_SOURCE_DIR", ISPH_SOURCE_DIR);
+inline const std::string kCases = kSource + "/cases/";
 inline const std::string kIsph = from_environment("ISPH_TEST_BINARY", ISPH_BINARY);
 
 struct CommandResult {

@@ -283,9 +283,9 @@ TEST(BadFluidInput, FailedPressureSolveStopsTheRun) {
 }
 
 // A block of water thrown upwards out of a tank (9 particles at 8 m/s, far above the walls) leaves the
-// escape box above the walls' rim. By default the run removes it and goes on (summary.json counts the removed particles and
-// when the first left; the water in the tank keeps its hydrostatic floor pressure); with
-// fluid.escape = "stop" the run stops there as diverged (exit status 3).
+// escape box above the walls' rim. By default the run removes it and goes on (summary.json counts the
+// removed particles and when the first left; the water in the tank keeps its hydrostatic floor
+// pressure); with fluid.escape = "stop" the run stops there as diverged (exit status 3).
 TEST(EscapedParticles, RemovedAndCountedOrTheRunStops) {
   const fs::path out = fresh_dir("escape");
   fs::create_directories(out);

@@ -29,10 +29,8 @@ TEST(Study, SmokeStudyWritesTableAndCharts) {
     GTEST_SKIP() << kPython << " with tomllib, matplotlib, numpy and h5py is needed";
   const fs::path out = fresh_dir("study");
   fs::create_directories(out);
-  const std::string source = ISPH_SOURCE_DIR;
-  const std::string cmd = kPython + " " + source + "/scripts/study.py " + source + "/cases/studies/smoke.toml --out " +
-                          out.string() + " --isph " + ISPH_BINARY + " --threads 1 > " + (out / "study.log").string() +
-                          " 2>&1";
+  const std::string cmd = kPython + " " + kSource + "/scripts/study.py " + kCases + "studies/smoke.toml --out " +
+                          out.string() + " --isph " + kIsph + " --threads 1 > " + (out / "study.log").string() + " 2>&1";
   const int rc = std::system(cmd.c_str());
   ASSERT_TRUE(WIFEXITED(rc) && WEXITSTATUS(rc) == 0) << read_file(out / "study.log");
 

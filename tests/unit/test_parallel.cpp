@@ -14,10 +14,6 @@
 using namespace isph;
 
 namespace {
-struct At {
-  const double* v;
-  double operator()(Index i) const { return v[i]; }
-};
 struct IntAt {
   const Index* v;
   Index operator()(Index i) const { return v[i]; }
@@ -37,10 +33,10 @@ TEST(Parallel, ReduceIsExactForAnyThreadCount) {
   const int threads = omp_get_max_threads();
   for (int t : {1, 2}) {
     omp_set_num_threads(t);
-    EXPECT_EQ(parallel_reduce(Exec{}, n, -1e300, At{v.data()}, MaxOf{}), *std::max_element(v.begin(), v.end()));
-    EXPECT_EQ(parallel_reduce(Exec{}, n, 1e300, At{v.data()}, MinOf{}), *std::min_element(v.begin(), v.end()));
+    EXPECT_EQ(parallel_reduce(Exec{}, n, -1e300, ScalarAt{v.data()}, MaxOf{}), *std::max_element(v.begin(), v.end()));
+    EXPECT_EQ(parallel_reduce(Exec{}, n, 1e300, ScalarAt{v.data()}, MinOf{}), *std::min_element(v.begin(), v.end()));
     EXPECT_EQ(parallel_reduce(Exec{}, n, Index{0}, IntAt{k.data()}, IntegerSum{}), std::accumulate(k.begin(), k.end(), 0));
-    EXPECT_EQ(parallel_reduce(Exec{}, 0, -7.0, At{v.data()}, MaxOf{}), -7.0);
+    EXPECT_EQ(parallel_reduce(Exec{}, 0, -7.0, ScalarAt{v.data()}, MaxOf{}), -7.0);
   }
   omp_set_num_threads(threads);
 }
