@@ -48,6 +48,41 @@ struct BoundaryPressureForce {
   }
 };
 
+// alpha(f->s) = f_s / rho_s (Eq. 48) of each structure particle (TLSPH's indexing), from the pressure
+// force per unit volume.
+template <int D>
+struct InteractionAcceleration {
+  const Vec<D>* force_density;
+  const Real* density;
+  Vec<D>* alpha;
+  ISPH_HD void operator()(Index a) const { alpha[a] = (1.0 / density[a]) * force_density[a]; }
+};
+
+// Component d of V_s f_s, whose sum over the structure's particles is the pressure force on it.
+template <int D>
+struct ForceComponent {
+  const Real* volume;
+  const Vec<D>* force_density;
+  int d;
+  ISPH_HD Real operator()(Index s) const { return volume[s] * force_density[s][d]; }
+};
+
+// The structure's motion over a fluid step as the fluid sees it (sim/coupling.hpp): the chord velocity
+// vbar^{n+1} = (x^{n+1} - x^n)/dt and, where asked, the acceleration a_s = (vbar^{n+1} - vbar^n)/dt.
+template <int D>
+struct ChordMotion {
+  const Vec<D>* x;
+  const Vec<D>* x_old;
+  const Vec<D>* v_mean;  // vbar^n
+  Real inverse_dt;
+  Vec<D>* v_new;
+  Vec<D>* a_new;  // null: the velocity only
+  ISPH_HD void operator()(Index a) const {
+    v_new[a] = inverse_dt * (x[a] - x_old[a]);
+    if (a_new) a_new[a] = inverse_dt * (v_new[a] - v_mean[a]);
+  }
+};
+
 // Fluid particles beside a body (the structure, or the walls): whether the particle lies inside the
 // body, and its distance to the nearest of the body's particles (or a large value). Inside means both
 //  - the body's kernel sum (its colour function) at the particle, c_a = sum_b V_b W(x_a - x_b), exceeds

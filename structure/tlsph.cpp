@@ -130,7 +130,7 @@ void TlsphSolver<D>::make_state_device_visible() {
   make_device_visible(volume_), make_device_visible(cell_moment_), make_device_visible(hg_weight_), make_device_visible(psi_);
   make_device_visible(material_), make_device_visible(motion_), make_device_visible(mass_);
   make_device_visible(fixed_);
-  make_device_visible(clamp_poses_), make_device_visible(block_sums_);
+  make_device_visible(clamp_poses_), make_device_visible(block_sums_), make_device_visible(power_record_);
   make_device_visible(nbr_offset_), make_device_visible(nbr_);
   make_device_visible(contact_offset_), make_device_visible(contact_point_), make_device_visible(contact_radius_);
   for (auto* v : {&load_acc_, &interaction_, &X_, &x_, &v_, &acc_, &cgrad_, &rcgrad_, &cgrad_sum_, &x0_, &v0_,
@@ -198,11 +198,54 @@ void TlsphSolver<D>::evaluate(const Exec& exec, Real t) {
 }
 
 template <int D>
+bool TlsphSolver<D>::queues_steps() const {
+  return exec_.device == Device::cuda && integrator_ == StructureIntegrator::rk4 && motions_.empty();
+}
+
+template <int D>
 void TlsphSolver<D>::step(Real t, Real dt) {
-  if (integrator_ == StructureIntegrator::rk4)
-    step_rk4(t, dt);
-  else
+  if (integrator_ == StructureIntegrator::verlet) {
     step_verlet(t, dt);
+    return;
+  }
+  step_rk4(queues_steps() ? graph_->exec() : waiting_exec(), t, dt);
+  if (queues_steps()) graph_->synchronize();
+}
+
+template <int D>
+Real TlsphSolver<D>::advance(Real t, Real dt, int count, InteractionRamp<D> ramp) {
+  if (ramp.from && interaction_.empty()) throw std::logic_error("TlsphSolver::advance: a ramp before any interaction field");
+  const Real h = dt / count;
+  const bool queued = queues_steps();
+  const Exec exec = queued ? graph_->exec() : waiting_exec();
+  const bool with_power = !interaction_.empty();
+  // The power at the start (slot 2k) and the end (2k + 1) of step k. Under a held field a step starts
+  // with the power its predecessor ended with, so only the first start is evaluated.
+  power_record_.resize(2 * static_cast<std::size_t>(count));
+  const auto record_power = [&](int slot) {
+    if (with_power)
+      ordered_sum_into(exec, n_, PowerTerm<D>{nullptr, mass_.data(), interaction_.data(), v_.data(), 1.0}, block_sums_,
+                       power_record_.data() + slot);
+  };
+  for (int k = 0; k < count; ++k) {
+    if (ramp.from)
+      parallel_for(exec, n_, SetInteraction<D>{ramp.from, ramp.to, (k + 0.5) / count, interaction_.data(),
+                                               verlet_started_ ? acc_.data() : nullptr});
+    if (ramp.from || k == 0) record_power(2 * k);
+    if (integrator_ == StructureIntegrator::rk4)
+      step_rk4(exec, t + k * h, h);
+    else
+      step_verlet(t + k * h, h);
+    record_power(2 * k + 1);
+  }
+  if (queued) graph_->synchronize();
+  Real work = 0;
+  if (with_power)
+    for (int k = 0; k < count; ++k) {
+      const Real start = ramp.from || k == 0 ? power_record_[2 * k] : power_record_[2 * k - 1];
+      work += 0.5 * h * (start + power_record_[2 * k + 1]);  // the trapezoidal rule
+    }
+  return work;
 }
 
 template <int D>
@@ -226,28 +269,33 @@ void TlsphSolver<D>::rk4_launches(const Exec& exec, Real t, Real dt) {
 }
 
 template <int D>
-void TlsphSolver<D>::step_rk4(Real t, Real dt) {
+bool TlsphSolver<D>::replayable(Real t) const {
+  // A graph replays fixed arguments: no ramping load, no moving clamp.
+  bool fixed_arguments = use_graphs_ && motions_.empty();
+  for (const auto& l : loads_) fixed_arguments = fixed_arguments && l.factor(t) == 1;
+  return fixed_arguments;
+}
+
+template <int D>
+void TlsphSolver<D>::step_rk4(const Exec& exec, Real t, Real dt) {
   pair_evaluations_ += 4 * evaluation_passes() * static_cast<long long>(pairs());
   replayed_graph_ = false;
-  // A graph replays fixed arguments: no ramping load, no moving clamp.
-  bool replayable = use_graphs_ && motions_.empty();
-  for (const auto& l : loads_) replayable = replayable && l.factor(t) == 1;
-  if (exec_.device == Device::cpu || !replayable) {
-    rk4_launches(waiting_exec(), t, dt);
+  if (exec.device == Device::cpu || exec.wait || !replayable(t)) {
+    rk4_launches(exec, t, dt);
     return;
   }
   // The arrays stay in place from step to step; only the interaction field is allocated late (its
   // first set_interaction), and the obstacle candidates move when they outgrow their allocation.
   if (!graph_->recorded() || dt != recorded_dt_ || interaction_.data() != recorded_interaction_ ||
       contact_point_.data() != recorded_contact_point_ || contact_radius_.data() != recorded_contact_radius_) {
-    graph_->record([&](const Exec& exec) { rk4_launches(exec, t, dt); });
+    graph_->synchronize();  // the stream is captured empty
+    graph_->record([&](const Exec& capture) { rk4_launches(capture, t, dt); });
     recorded_dt_ = dt;
     recorded_interaction_ = interaction_.data();
     recorded_contact_point_ = contact_point_.data();
     recorded_contact_radius_ = contact_radius_.data();
   }
   graph_->replay();
-  graph_->synchronize();
   replayed_graph_ = true;
 }
 
@@ -306,14 +354,14 @@ Real TlsphSolver<D>::strain_energy() const {
 
 template <int D>
 typename TlsphSolver<D>::ObstacleContact TlsphSolver<D>::obstacle_contact() const {
+  using Measure = typename ObstacleOverlap<D>::Measure;
+  const auto overlap = [&](Measure m) {
+    return ObstacleOverlap<D>{obstacles(), materials_.data(), material_.data(), volume_.data(), x_.data(), m};
+  };
   ObstacleContact c;
-  for (Index a = 0; a < n_; ++a)
-    for_each_wall_overlap(obstacles(), a, materials_[material_[a]], volume_[a], x_[a],
-                          [&](const Vec<D>&, Real overlap, Real, Real k) {
-                            c.energy += 0.5 * k * overlap * overlap;
-                            c.deepest = std::max(c.deepest, overlap);
-                            ++c.pairs;
-                          });
+  c.energy = ordered_sum(waiting_exec(), n_, overlap(Measure::energy), block_sums_);
+  c.deepest = parallel_reduce(waiting_exec(), n_, Real{0}, overlap(Measure::deepest), MaxOf{});
+  c.pairs = static_cast<Index>(ordered_sum(waiting_exec(), n_, overlap(Measure::pairs), block_sums_));  // exact
   return c;
 }
 
@@ -326,37 +374,39 @@ template <int D>
 void TlsphSolver<D>::set_interaction(std::span<const Vec<D>> acc) {
   if (static_cast<Index>(acc.size()) != n_) throw std::invalid_argument("set_interaction: one value per particle");
   interaction_.resize(acc.size());  // allocated once (zero): a recorded graph keeps addressing it
-  // Velocity-Verlet's next opening kick reuses acc_, evaluated with the old field. The interaction is
-  // one additive term of acc, so acc_ is moved to the new field exactly, without a new evaluation.
-  for (Index a = 0; a < n_; ++a) {
-    if (verlet_started_) acc_[a] += acc[a] - interaction_[a];
-    interaction_[a] = acc[a];
-  }
+  // Velocity-Verlet's next opening kick reuses acc_, evaluated with the old field: it is moved to the new
+  // field exactly, without a new evaluation. Values in ordinary host memory are copied on the host.
+  parallel_for(exec_reading(acc.data()), n_,
+               SetInteraction<D>{nullptr, acc.data(), 0, interaction_.data(), verlet_started_ ? acc_.data() : nullptr});
 }
 
 template <int D>
 void TlsphSolver<D>::set_obstacles(std::span<const Vec<D>> point, std::span<const Real> radius, Real reach) {
   if (point.size() != radius.size()) throw std::invalid_argument("set_obstacles: one radius per point");
-  obstacle_point_.assign(point.begin(), point.end());
-  obstacle_radius_.assign(radius.begin(), radius.end());
-  obstacle_cells_.build(obstacle_point_, reach);  // keeps addressing obstacle_point_
+  const Index m = static_cast<Index>(point.size());
+  obstacle_point_.resize(m);
+  obstacle_radius_.resize(m);
+  parallel_for(exec_reading(point.data()), m, CopyElements<Vec<D>>{point.data(), obstacle_point_.data()});
+  parallel_for(exec_reading(radius.data()), m, CopyElements<Real>{radius.data(), obstacle_radius_.data()});
+  if (m > 0 && exec_.device == Device::cuda)  // both keep addressing obstacle_point_
+    device_obstacle_cells_.build(obstacle_point_.data(), m, reach);
+  else if (m > 0)
+    obstacle_cells_.build(obstacle_point_, reach);
   find_obstacle_candidates();
 }
 
 template <int D>
 void TlsphSolver<D>::find_obstacle_candidates() {
-  contact_point_.clear();
-  contact_radius_.clear();
-  const CellListView<D> near = obstacle_cells_.view();
-  for (Index a = 0; a < n_; ++a) {
-    contact_offset_[a] = static_cast<Index>(contact_point_.size());
-    if (fixed_[a] || obstacle_point_.empty()) continue;
-    near.for_each_near(x_[a], [&](Index c, const Vec<D>&) {
-      contact_point_.push_back(obstacle_point_[c]);
-      contact_radius_.push_back(obstacle_radius_[c]);
-    });
-  }
-  contact_offset_[n_] = static_cast<Index>(contact_point_.size());
+  const Exec exec = waiting_exec();
+  const bool any = !obstacle_point_.empty();
+  const CellListView<D> near = exec_.device == Device::cuda ? device_obstacle_cells_.view() : obstacle_cells_.view();
+  parallel_for(exec, n_, CountObstacleCandidates<D>{near, any, fixed_.data(), x_.data(), contact_offset_.data() + 1});
+  inclusive_scan(exec, contact_offset_.data() + 1, n_);  // contact_offset_[0] stays 0
+  const Index candidates = contact_offset_[n_];  // one value back from the device
+  contact_point_.resize(candidates);
+  contact_radius_.resize(candidates);
+  parallel_for(exec, n_, FillObstacleCandidates<D>{near, any, fixed_.data(), x_.data(), obstacle_radius_.data(),
+                                                   contact_offset_.data(), contact_point_.data(), contact_radius_.data()});
 }
 
 template <int D>

@@ -7,14 +7,18 @@
 // memory (StateVector), where the device steps them and the host reads them for output. A structure
 // of a few thousand particles is launch-bound (13 launches per RK4 step of a few microseconds each; 4 more with quadratic gradients and hourglass control, 8 more with cell quadrature), so
 // the RK4 step is recorded once as a CUDA graph and replayed (LaunchGraph); it is recorded again when
-// the step size changes or the interaction field or the obstacle candidates move in memory, and not used while a load ramps up or a clamp moves (their values
-// change from step to step), where the launches go one by one.
+// the step size changes or the interaction field or the obstacle candidates move in memory, and not used
+// while a load ramps up or a clamp moves (their values change from step to step), where the launches go
+// one by one. The substeps of a coupled fluid step (advance) are queued on the graph's stream with the
+// interaction's power after each, and the host waits once, at the end, where no clamp moves (a moving
+// clamp's work is read back at every stage).
 #include <memory>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "core/device_memory.hpp"
+#include "core/device_neighbour_search.hpp"
 #include "core/neighbour_search.hpp"
 #include "core/parallel.hpp"
 #include "core/types.hpp"
@@ -43,6 +47,14 @@ struct LoadField {
   std::vector<Vec<D>> acc;
   Real ramp_time = 0;
   Real factor(Real t) const { return ramp_time > 0 && t < ramp_time ? t / ramp_time : 1.0; }
+};
+
+// The interaction fields of the substeps of one fluid step, ramped: substep k of n applies
+// from + (k + 1/2)/n (to - from) (StructureCoupling's "interpolated" alpha). Null: the field set last.
+template <int D>
+struct InteractionRamp {
+  const Vec<D>* from = nullptr;
+  const Vec<D>* to = nullptr;
 };
 
 template <int D>
@@ -83,6 +95,11 @@ class TlsphSolver {
   // Advances positions and velocities from t to t + dt with the chosen integrator. On the device it
   // returns when the step is done, so that the host may read the state.
   void step(Real t, Real dt);
+  // Runs `count` steps of dt / count from t under the interaction field set last, or the ramp's, and
+  // returns the interaction's work over them: the trapezoidal rule on the power of each step's field at
+  // the step's two ends (interaction_power()). On the device the steps and the powers are queued and the
+  // host waits once, at the end (RK4 with no moving clamp).
+  Real advance(Real t, Real dt, int count, InteractionRamp<D> ramp = {});
   // Recomputes F, P and the strain energy at the current state (for output).
   void update_stress();
   // The fluid's interaction acceleration alpha(f->s) (Eq. 48), one per particle, added to the
@@ -143,7 +160,12 @@ class TlsphSolver {
  private:
   void evaluate(const Exec& exec, Real t);  // acc at the current (x, v)
   void rk4_launches(const Exec& exec, Real t, Real dt);
-  void step_rk4(Real t, Real dt);
+  // One RK4 step sent to exec; on the device's graph stream (graph_->exec()) the recorded graph is
+  // replayed where it may be (replayable), recorded first when stale. Does not wait.
+  void step_rk4(const Exec& exec, Real t, Real dt);
+  bool replayable(Real t) const;  // no ramping load at t, no moving clamp, graphs on
+  // Whether advance() and step() queue RK4 steps on the graph's stream (device, RK4, no moving clamp).
+  bool queues_steps() const;
   void step_verlet(Real t, Real dt);
   void prescribe_clamps(const Exec& exec, Real t);  // moving clamps: x and v at time t (PrescribeClamps)
   // The power a moving clamp puts into the rest of the structure, -sum_c m_c acc_c · v_c over the
@@ -155,6 +177,10 @@ class TlsphSolver {
   void make_state_device_visible();
   // Launches that wait for each other (the host's, or the device's one by one).
   Exec waiting_exec() const { return Exec{exec_.device}; }
+  // Where a loop over values handed in runs: on the host for values in ordinary host memory.
+  Exec exec_reading(const void* values) const {
+    return exec_.device == Device::cuda && !device_accessible(values) ? Exec{} : waiting_exec();
+  }
   // Neighbour passes of one evaluation of the stress, and of the stress and the acceleration.
   int stress_passes() const { return 1 + (hourglass_ > 0) + 2 * cell_quadrature_; }
   int evaluation_passes() const { return stress_passes() + 1; }
@@ -170,9 +196,10 @@ class TlsphSolver {
   StateVector<ElasticMaterial> materials_;
   std::vector<LoadField<D>> loads_;
   StateVector<Vec<D>> load_acc_, interaction_;
-  std::vector<Vec<D>> obstacle_point_;  // the obstacles (set_obstacles) and their cell list
-  std::vector<Real> obstacle_radius_;
+  StateVector<Vec<D>> obstacle_point_;  // the obstacles (set_obstacles) and their cell list (the device's on cuda)
+  StateVector<Real> obstacle_radius_;
   CellList<D> obstacle_cells_;
+  DeviceCellList<D> device_obstacle_cells_;
   StateVector<Index> contact_offset_;  // obstacle candidates per particle (find_obstacle_candidates)
   StateVector<Vec<D>> contact_point_;
   StateVector<Real> contact_radius_;
@@ -185,6 +212,7 @@ class TlsphSolver {
   std::vector<RigidMotion<D>> motions_;
   StateVector<RigidPose<D>> clamp_poses_;  // each motion's pose at the time of the last prescribe_clamps
   mutable StateVector<Real> block_sums_;   // ordered_sum's scratch
+  StateVector<Real> power_record_;         // advance(): the interaction's power at each step's ends
   Real clamp_work_ = 0, saved_clamp_work_ = 0;
   StateVector<Index> nbr_offset_, nbr_;
   StateVector<Vec<D>> cgrad_;

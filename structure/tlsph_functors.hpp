@@ -2,6 +2,7 @@
 // Total Lagrangian SPH particle loops (seed 001 §2.2; Lin et al. 2015; Ganzenmüller 2015).
 // Every loop is a plain-data functor that writes only particle a, so it runs unchanged on the
 // host (OpenMP) and on a CUDA device through parallel_for.
+#include "core/neighbour_search.hpp"
 #include "core/types.hpp"
 #include "sim/prescribed_motion.hpp"
 
@@ -248,6 +249,65 @@ ISPH_HD inline void for_each_wall_overlap(const ObstacleView<D>& o, Index a, con
   }
 }
 
+// Each particle's obstacle candidates: the obstacle points within reach of x_a (a cell list over them),
+// none for clamped particles or without obstacles. Counted into count[a] (count = offset + 1, then
+// summed into offsets), then copied, in the cell list's order, to offset[a] .. offset[a + 1].
+template <int D>
+struct CountObstacleCandidates {
+  CellListView<D> near;  // over the obstacle points
+  bool any;              // false: no obstacles (near is not built)
+  const unsigned char* fixed;
+  const Vec<D>* x;
+  Index* count;
+  ISPH_HD void operator()(Index a) const {
+    Index found = 0;
+    if (any && !fixed[a]) near.for_each_near(x[a], [&](Index, const Vec<D>&) { ++found; });
+    count[a] = found;
+  }
+};
+template <int D>
+struct FillObstacleCandidates {
+  CellListView<D> near;
+  bool any;
+  const unsigned char* fixed;
+  const Vec<D>* x;
+  const Real* obstacle_radius;
+  const Index* offset;
+  Vec<D>* point;
+  Real* radius;
+  ISPH_HD void operator()(Index a) const {
+    if (!any || fixed[a]) return;
+    Index k = offset[a];
+    near.for_each_near(x[a], [&](Index c, const Vec<D>&) {
+      point[k] = near.x[c];
+      radius[k++] = obstacle_radius[c];
+    });
+  }
+};
+
+// Particle a's overlaps with its candidates (for_each_wall_overlap) as a functor Index -> Real for the
+// reductions of TlsphSolver::obstacle_contact: their stored energy, the deepest, or their number.
+template <int D>
+struct ObstacleOverlap {
+  enum class Measure { energy, deepest, pairs };
+  ObstacleView<D> obstacles;
+  const ElasticMaterial* materials;
+  const int* material;
+  const Real* volume;
+  const Vec<D>* x;
+  Measure measure;
+  ISPH_HD Real operator()(Index a) const {
+    Real energy = 0, deepest = 0, pairs = 0;
+    for_each_wall_overlap(obstacles, a, materials[material[a]], volume[a], x[a],
+                          [&](const Vec<D>&, Real overlap, Real, Real k) {
+                            energy += 0.5 * k * overlap * overlap;
+                            deepest = overlap > deepest ? overlap : deepest;
+                            pairs += 1;
+                          });
+    return measure == Measure::energy ? energy : measure == Measure::deepest ? deepest : pairs;
+  }
+};
+
 // The acceleration (*) above, plus gravity, damping, the applied loads, the fluid's interaction and the
 // contact with obstacles.
 // Clamped particles get zero, or where clamps move the acceleration they would have free, which the
@@ -379,6 +439,23 @@ struct GravityEnergyTerm {
   const Vec<D>* x;
   const Vec<D>* X;
   ISPH_HD Real operator()(Index a) const { return -mass[a] * dot(gravity, x[a] - X[a]); }
+};
+
+// The interaction field alpha(f->s) of a step (TlsphSolver::set_interaction, advance): to, or with from
+// given the ramp from + s (to - from). Velocity-Verlet's stored acceleration, where given, moves by the
+// field's change: the field is one additive term of it.
+template <int D>
+struct SetInteraction {
+  const Vec<D>* from;  // null: no ramp
+  const Vec<D>* to;
+  Real s;
+  Vec<D>* interaction;
+  Vec<D>* acc;  // null: nothing stored
+  ISPH_HD void operator()(Index a) const {
+    const Vec<D> value = from ? from[a] + s * (to[a] - from[a]) : to[a];
+    if (acc) acc[a] += value - interaction[a];
+    interaction[a] = value;
+  }
 };
 
 // The state kept for a repeated coupled step (save_state, restore_state): to = from for x and v.

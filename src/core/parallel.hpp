@@ -102,6 +102,14 @@ struct ScalarAt {
   ISPH_HD Real operator()(Index i) const { return value[i]; }
 };
 
+// out[i] = in[i].
+template <class T>
+struct CopyElements {
+  const T* in;
+  T* out;
+  ISPH_HD void operator()(Index i) const { out[i] = in[i]; }
+};
+
 // combine over i in [0, n) of value(i), starting from identity (value: a functor Index -> T).
 template <class T, class F, class Combine>
 T parallel_reduce(const Exec& exec, Index n, T identity, const F& value, const Combine& combine) {

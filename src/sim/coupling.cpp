@@ -24,56 +24,25 @@ void unflatten(const Eigen::VectorXd& x, StateVector<Vec<D>>& v) {
 
 }  // namespace
 
-void InterfaceQuasiNewton::begin_step() {
-  if (!current_.empty()) {
-    earlier_.push_front(std::move(current_));
-    if (static_cast<int>(earlier_.size()) > reuse_steps_) earlier_.pop_back();
-  }
-  current_.clear();
-  has_last_ = false;
-}
-
-Eigen::VectorXd InterfaceQuasiNewton::next(const Eigen::VectorXd& x, const Eigen::VectorXd& hx) {
-  const Eigen::VectorXd r = hx - x;
-  // A residual that grows means the reused columns describe another state of the interface (an
-  // impact changes it within a step): they are dropped, and reuse starts again from this step.
-  if (has_last_ && r.norm() > last_r_.norm()) earlier_.clear();
-  if (has_last_) current_.push_back({r - last_r_, hx - last_h_});
-  last_r_ = r;
-  last_h_ = hx;
-  has_last_ = true;
-  std::vector<const Column*> columns;
-  for (auto it = current_.rbegin(); it != current_.rend(); ++it) columns.push_back(&*it);  // newest first
-  for (const auto& step : earlier_)
-    for (auto it = step.rbegin(); it != step.rend(); ++it) columns.push_back(&*it);
-  const Eigen::Index rows = x.size();
-  const Eigen::Index cols = std::min<Eigen::Index>(static_cast<Eigen::Index>(columns.size()), rows);
-  if (cols == 0) return x + 0.1 * r;
-  Eigen::MatrixXd V(rows, cols), W(rows, cols);
-  for (Eigen::Index k = 0; k < cols; ++k) {
-    V.col(k) = columns[k]->dr;
-    W.col(k) = columns[k]->dh;
-  }
-  const Eigen::VectorXd c = V.colPivHouseholderQr().solve(-r);
-  return hx + W * c;
-}
-
 template <int D>
 StructureCoupling<D>::StructureCoupling(TlsphSetup<D> setup, const CouplingSpec& coupling, Real courant,
                                         Vec<D> gravity, Device device)
-    : solver_(std::move(setup), Exec{device}),
+    : exec_{device},
+      solver_(std::move(setup), exec_),
       spec_(coupling),
       stable_dt_(solver_.stable_dt(courant)),
       g_norm_(std::sqrt(norm2(gravity))),
       interpolate_(coupling.substep_interaction == "interpolated"),
       quasi_newton_(coupling.reuse_steps) {
   const Index n = solver_.size();
-  const StateAllocator<Vec<D>> memory(device == Device::cuda);
-  for (auto* v : {&force_density_, &interaction_, &a_guess_, &a_new_, &x_old_, &v_new_, &last_interaction_,
-                  &substep_interaction_})
-    *v = StateVector<Vec<D>>(n, Vec<D>::zero(), memory);
-  v_mean_ = StateVector<Vec<D>>(solver_.velocity().begin(), solver_.velocity().end(), memory);
-  density_.resize(n);
+  const StateAllocator<Vec<D>> vectors(device == Device::cuda);
+  const StateAllocator<Real> scalars(device == Device::cuda);
+  for (auto* v : {&force_density_, &interaction_, &a_guess_, &a_new_, &x_old_, &v_new_, &last_interaction_})
+    *v = StateVector<Vec<D>>(n, Vec<D>::zero(), vectors);
+  v_mean_ = StateVector<Vec<D>>(solver_.velocity().begin(), solver_.velocity().end(), vectors);
+  wall_point_ = StateVector<Vec<D>>(vectors);
+  wall_radius_ = StateVector<Real>(scalars);
+  density_ = StateVector<Real>(n, 0.0, scalars);
   for (Index a = 0; a < n; ++a) density_[a] = solver_.density(a);
 }
 
@@ -81,21 +50,9 @@ template <int D>
 int StructureCoupling<D>::substep(Real t, Real dt, Real& work) {
   const int count =
       spec_.substeps > 0 ? spec_.substeps : std::max(1, static_cast<int>(std::ceil(dt / stable_dt_ - 1e-9)));
-  const Real h = dt / count;
-  Real power = solver_.interaction_power();
   const bool ramp = interpolate_ && has_last_interaction_;
-  for (int k = 0; k < count; ++k) {
-    if (ramp) {
-      const Real s = (k + 0.5) / count;
-      for (std::size_t a = 0; a < interaction_.size(); ++a)
-        substep_interaction_[a] = last_interaction_[a] + s * (interaction_[a] - last_interaction_[a]);
-      solver_.set_interaction(substep_interaction_);
-    }
-    solver_.step(t + k * h, h);
-    const Real next = solver_.interaction_power();
-    work += 0.5 * h * (power + next);  // trapezoidal rule
-    power = next;
-  }
+  work += solver_.advance(t, dt, count,
+                          ramp ? InteractionRamp<D>{last_interaction_.data(), interaction_.data()} : InteractionRamp<D>{});
   return count;
 }
 
@@ -108,7 +65,7 @@ FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid
   timer.time("structure", [&] {
     set_obstacles(fluid);
     solver_.save_state();
-    x_old_.assign(solver_.position().begin(), solver_.position().end());
+    parallel_for(exec_, n, CopyElements<Vec<D>>{solver_.position().data(), x_old_.data()});
   });
   const Real floor = g_norm_ * std::sqrt(static_cast<Real>(n));  // |g| on every particle
   int iteration = 0, count = 0;
@@ -128,19 +85,17 @@ FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid
       if (iteration > 1) solver_.restore_state();
       work = 0;
       count = substep(t, dt, work);
-      for (Index a = 0; a < n; ++a) {
-        v_new_[a] = (1.0 / dt) * (solver_.position()[a] - x_old_[a]);
-        a_new_[a] = (1.0 / dt) * (v_new_[a] - v_mean_[a]);
-      }
+      parallel_for(exec_, n, ChordMotion<D>{solver_.position().data(), x_old_.data(), v_mean_.data(), 1.0 / dt,
+                                            v_new_.data(), a_new_.data()});
     });
     const Eigen::VectorXd x = flatten(a_guess_), hx = flatten(a_new_);
-    converged = (hx - x).norm() <= spec_.tolerance * std::max(hx.norm(), floor);
+    converged = InterfaceQuasiNewton::converged(x, hx, spec_.tolerance, floor);
     if (converged || spec_.max_iterations == 1) break;
     unflatten(quasi_newton_.next(x, hx), a_guess_);
   }
   if (!converged && spec_.max_iterations > 1) ++unconverged_;
-  a_guess_ = a_new_;  // the next step starts from this step's acceleration
-  last_interaction_ = interaction_;
+  a_guess_.swap(a_new_);  // the next step starts from this step's acceleration
+  last_interaction_.swap(interaction_);  // interaction_ is set afresh before it is read again
   has_last_interaction_ = true;
 
   fluid.end_step(dt, timer);
@@ -166,10 +121,10 @@ void StructureCoupling<D>::explicit_step(Real t, Real dt, WcsphSolver<D>& fluid,
   int count = 0;
   timer.time("structure", [&] {
     set_obstacles(fluid);
-    x_old_.assign(solver_.position().begin(), solver_.position().end());
+    parallel_for(exec_, n, CopyElements<Vec<D>>{solver_.position().data(), x_old_.data()});
     count = substep(t, dt, work);
     solver_.update_stress();
-    for (Index a = 0; a < n; ++a) v_new_[a] = (1.0 / dt) * (solver_.position()[a] - x_old_[a]);
+    parallel_for(exec_, n, ChordMotion<D>{solver_.position().data(), x_old_.data(), nullptr, 1.0 / dt, v_new_.data(), nullptr});
     fluid.move_structure(solver_.position(), v_new_, solver_.deformation_gradient());
   });
   account_step(work, force, count, 1);
@@ -219,7 +174,7 @@ void StructureCoupling<D>::add_snapshot_fields(const FluidParticles<D>& fluid, c
 
 template <int D>
 void StructureCoupling<D>::set_interaction() {
-  for (std::size_t a = 0; a < interaction_.size(); ++a) interaction_[a] = (1.0 / density_[a]) * force_density_[a];  // Eq. 48
+  parallel_for(exec_, solver_.size(), InteractionAcceleration<D>{force_density_.data(), density_.data(), interaction_.data()});
   solver_.set_interaction(interaction_);
 }
 
@@ -230,14 +185,8 @@ void StructureCoupling<D>::set_obstacles(const FluidParticles<D>& fluid) {
     solver_.find_obstacle_candidates();
     return;
   }
-  std::vector<Vec<D>> point;
-  std::vector<Real> radius;
-  for (Index a = 0; a < fluid.size(); ++a) {
-    if (fluid.kind()[a] != FluidKind::wall) continue;
-    point.push_back(fluid.position()[a]);
-    radius.push_back(0.5 * std::pow(fluid.volume()[a], 1.0 / D));
-  }
-  solver_.set_obstacles(point, radius, solver_.support());
+  fluid.gather_walls(wall_point_, wall_radius_);
+  solver_.set_obstacles(wall_point_, wall_radius_, solver_.support());
   walls_gathered_ = true;
 }
 

@@ -35,6 +35,9 @@
 // alpha over the substeps: "held" (default) applies the iterate's alpha, the pressure of the step's end,
 // to every substep; "interpolated" ramps it linearly from the last step's converged alpha, substep k
 // getting alpha^n + (k + 1/2)/n_sub (alpha^{n+1} - alpha^n) (docs/VALIDATION.md measures the difference).
+// The interaction's work over a substep is the trapezoidal rule on the power of that substep's field at
+// its two ends (TlsphSolver::advance; on the device the substeps and their powers are queued, and the
+// host waits once per fluid step and interface iteration).
 //
 // The weakly compressible model (sim/wcsph.hpp) couples explicitly instead (explicit_step): over each
 // of its acoustic steps the structure feels the pressure force of the step's start, held over the
@@ -53,39 +56,18 @@
 //
 // n_sub comes from the structure's own stability limit each fluid step, ceil(dt / dt_s) with
 // dt_s = courant h / c_p, or is fixed by coupling.substeps (the seed's fixed ratio, for comparison).
-#include <deque>
 #include <vector>
-
-#include <Eigen/Dense>
 
 #include "io/case.hpp"
 #include "io/output.hpp"
+#include "sim/interface_quasi_newton.hpp"
 #include "sim/isph.hpp"
 #include "sim/wcsph.hpp"
 #include "sim/phase_timer.hpp"
+#include "structure/interaction.hpp"
 #include "structure/tlsph.hpp"
 
 namespace isph {
-
-// IQN-ILS for a fixed point x = H(x), with the columns of earlier steps reused.
-class InterfaceQuasiNewton {
- public:
-  explicit InterfaceQuasiNewton(int reuse_steps) : reuse_steps_(reuse_steps) {}
-  // Starts the iterations of a new step; the columns of the step that ended are kept for reuse.
-  void begin_step();
-  // The next iterate from x and H(x).
-  Eigen::VectorXd next(const Eigen::VectorXd& x, const Eigen::VectorXd& hx);
-
- private:
-  struct Column {
-    Eigen::VectorXd dr, dh;  // differences of the residual and of H between two iterations
-  };
-  int reuse_steps_;
-  std::vector<Column> current_;
-  std::deque<std::vector<Column>> earlier_;  // newest first
-  Eigen::VectorXd last_r_, last_h_;
-  bool has_last_ = false;
-};
 
 template <int D>
 class StructureCoupling {
@@ -134,18 +116,21 @@ class StructureCoupling {
   // The step's totals for summary(): interaction work, force, substeps, interface iterations.
   void account_step(Real work, const Vec<D>& force, int count, int iterations);
 
+  Exec exec_;  // the structure's device, waiting for each launch
   TlsphSolver<D> solver_;
   CouplingSpec spec_;
   Real stable_dt_, g_norm_;
   StateVector<Vec<D>> force_density_, interaction_, a_guess_, a_new_, x_old_, v_new_, v_mean_;
-  StateVector<Vec<D>> last_interaction_, substep_interaction_;  // alpha^n; alpha of one substep (interpolated)
+  StateVector<Vec<D>> last_interaction_;  // alpha^n (interpolated)
   bool interpolate_;
   bool has_last_interaction_ = false;
-  std::vector<Real> density_;
+  StateVector<Real> density_;
   InterfaceQuasiNewton quasi_newton_;
   long long steps_ = 0, substeps_ = 0, iterations_ = 0, unconverged_ = 0;
   int max_substeps_ = 0, max_iterations_seen_ = 0;
   ContactRecord<D> contact_;  // fluid inside the structure, step by step
+  StateVector<Vec<D>> wall_point_;  // the fluid's wall particles as obstacles (set_obstacles)
+  StateVector<Real> wall_radius_;
   bool walls_gathered_ = false;  // the fixed walls are the solver's obstacles
   Real max_wall_overlap_ = 0;
   long long steps_with_wall_contact_ = 0;

@@ -299,6 +299,29 @@ struct ScatterStructureForce {
   }
 };
 
+// The wall particles as obstacles of the structure (FluidParticles::gather_walls): with
+// slot[k + 1] = 1 for a wall and 0 otherwise, summed (inclusive_scan), wall k goes to place slot[k],
+// as point x_k with radius V_k^(1/D) / 2.
+struct MarkWalls {
+  const FluidKind* kind;
+  Index* slot;
+  ISPH_HD void operator()(Index k) const { slot[k + 1] = kind[k] == FluidKind::wall ? 1 : 0; }
+};
+template <int D>
+struct GatherWalls {
+  const FluidKind* kind;
+  const Vec<D>* x;
+  const Real* volume;
+  const Index* slot;
+  Vec<D>* point;
+  Real* radius;
+  ISPH_HD void operator()(Index k) const {
+    if (kind[k] != FluidKind::wall) return;
+    point[slot[k]] = x[k];
+    radius[slot[k]] = 0.5 * pow(volume[k], 1.0 / D);
+  }
+};
+
 // Boundary particles that belong to a structure take its state from the TLSPH solver (arrays indexed
 // as there): position, velocity, and the surface normal turned with the deformation,
 // n = F^{-T} N / |F^{-T} N|.

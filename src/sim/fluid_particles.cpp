@@ -63,6 +63,7 @@ FluidParticles<D>::FluidParticles(FluidSetup<D>& s)
   has_structure_ = std::count(s.kind.begin(), s.kind.end(), FluidKind::structure) > 0;
   fluid_count_ = static_cast<Index>(std::count(s.kind.begin(), s.kind.end(), FluidKind::fluid));
   wall_count_ = static_cast<Index>(std::count(s.kind.begin(), s.kind.end(), FluidKind::wall));
+  structure_volume_ = StateVector<Real>(state_allocator<Real>());
   for (std::size_t k = 0; k < n; ++k)
     if (const Index i = s.structure_index[k]; i >= 0) {
       if (structure_volume_.size() <= static_cast<std::size_t>(i)) structure_volume_.resize(i + 1, 0);
@@ -180,10 +181,24 @@ void FluidParticles<D>::prescribe_walls(Real dt) {
 }
 
 template <int D>
+void FluidParticles<D>::gather_walls(StateVector<Vec<D>>& point, StateVector<Real>& radius) const {
+  const Index n = size();
+  if (wall_slot_.size() != static_cast<std::size_t>(n) + 1)
+    wall_slot_ = StateVector<Index>(static_cast<std::size_t>(n) + 1, 0, state_allocator<Index>());
+  parallel_for(exec_, n, MarkWalls{kind_.data(), wall_slot_.data()});
+  inclusive_scan(exec_, wall_slot_.data() + 1, n);
+  point.resize(wall_slot_[n]);  // the number of walls: one value back from the device
+  radius.resize(wall_slot_[n]);
+  parallel_for(exec_, n, GatherWalls<D>{kind_.data(), x_.data(), volume_.data(), wall_slot_.data(), point.data(), radius.data()});
+}
+
+template <int D>
 Vec<D> FluidParticles<D>::gather_structure_force(std::span<Vec<D>> force_density) const {
   parallel_for(exec_, size(), ScatterStructureForce<D>{structure_index_.data(), boundary_force_.data(), force_density.data()});
-  Vec<D> total = Vec<D>::zero();
-  for (std::size_t s = 0; s < structure_volume_.size(); ++s) total += structure_volume_[s] * force_density[s];
+  Vec<D> total;
+  for (int d = 0; d < D; ++d)
+    total[d] = ordered_sum(exec_, static_cast<Index>(structure_volume_.size()),
+                           ForceComponent<D>{structure_volume_.data(), force_density.data(), d}, block_sums_);
   return total;
 }
 

@@ -34,12 +34,6 @@ struct GatherElements {
   T* out;
   ISPH_HD void operator()(Index k) const { out[k] = in[order[k]]; }
 };
-template <class T>
-struct CopyElements {
-  const T* in;
-  T* out;
-  ISPH_HD void operator()(Index k) const { out[k] = in[k]; }
-};
 
 // Everything a fluid model needs, built by build_scene (sim/scene.cpp).
 template <int D>
@@ -138,6 +132,9 @@ class FluidParticles {
   const StateVector<Index>& structure_index() const { return structure_index_; }  // -1: not a structure particle
   Real time() const { return time_; }
   bool has_moving_walls() const { return !motions_.empty(); }
+  // The wall particles as the structure's obstacles (sim/coupling.hpp), in particle order: their
+  // positions and radii, half their spacing V^(1/D). Gathered on the particles' device.
+  void gather_walls(StateVector<Vec<D>>& point, StateVector<Real>& radius) const;
   // Work done on the fluid by the moving walls' pressure and viscous traction, integrated over the steps.
   Real wall_work() const { return wall_work_; }
 
@@ -233,7 +230,8 @@ class FluidParticles {
   StateVector<Vec<D>> boundary_force_;  // pressure force per unit volume on wall and structure particles
   StateVector<unsigned char> inside_;
   StateVector<Real> body_distance_, body_depth_;
-  std::vector<Real> structure_volume_;  // volume of each structure particle, indexed as in TLSPH
+  StateVector<Real> structure_volume_;
+  mutable StateVector<Index> wall_slot_;  // gather_walls: walls before each particle (entry 0 stays 0)  // volume of each structure particle, indexed as in TLSPH
   StateVector<unsigned char> permute_scratch_;
   CellList<D> cells_;  // cpu
   NeighbourList neighbours_;

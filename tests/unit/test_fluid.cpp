@@ -196,6 +196,32 @@ TEST(WallGeometry, TopOfTheHighestWallFacesUp) {
   EXPECT_EQ(outer, 1);
 }
 
+// The wall particles handed to the structure as obstacles (gather_walls, a mark-scan-gather): every wall
+// particle, in particle order, at its position with half its spacing as radius, and nothing else.
+TEST(WallGeometry, WallsGatheredAsObstaclesInParticleOrder) {
+  const CaseSpec spec = load_text(tank_case(1.0, 0.5, 10, 0.2));
+  Scene<2> scene = build_scene<2>(spec);
+  IsphSolver<2> solver(std::move(scene.fluid));
+  StateVector<Vec<2>> point(3, Vec<2>{{-7.0, -7.0}});  // stale contents, to be replaced
+  StateVector<Real> radius(3, -1.0);
+  solver.gather_walls(point, radius);
+  std::vector<Vec<2>> wall_x;
+  std::vector<Real> wall_radius;
+  for (Index a = 0; a < solver.size(); ++a)
+    if (solver.kind()[a] == FluidKind::wall) {
+      wall_x.push_back(solver.position()[a]);
+      wall_radius.push_back(0.5 * std::sqrt(solver.volume()[a]));
+    }
+  ASSERT_GT(wall_x.size(), 20u);
+  ASSERT_EQ(point.size(), wall_x.size());
+  ASSERT_EQ(radius.size(), wall_x.size());
+  for (std::size_t k = 0; k < wall_x.size(); ++k) {
+    EXPECT_EQ(point[k][0], wall_x[k][0]) << "wall " << k;
+    EXPECT_EQ(point[k][1], wall_x[k][1]) << "wall " << k;
+    EXPECT_DOUBLE_EQ(radius[k], wall_radius[k]) << "wall " << k;
+  }
+}
+
 // One projection step from rest gives the hydrostatic pressure rho g (H - y) and cancels gravity. The
 // walls' rows and the extrapolated surface condition are exact for it; the two-point Laplacian of
 // Eq. 15 is not exact for linear fields where the support is cut by the surface, which shifts the

@@ -1,0 +1,37 @@
+#pragma once
+// IQN-ILS for the interface iterations of the coupled step (Degroote, Bathe & Vierendeels 2009; the
+// scheme and its safeguards are described in sim/coupling.hpp). Compiled by the host compiler even when
+// the CUDA backend is built: Eigen turns its SIMD off under nvcc, and its sums would then round
+// differently from a build without CUDA.
+#include <deque>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "core/types.hpp"
+
+namespace isph {
+
+// IQN-ILS for a fixed point x = H(x), with the columns of earlier steps reused.
+class InterfaceQuasiNewton {
+ public:
+  explicit InterfaceQuasiNewton(int reuse_steps) : reuse_steps_(reuse_steps) {}
+  // Starts the iterations of a new step; the columns of the step that ended are kept for reuse.
+  void begin_step();
+  // The next iterate from x and H(x).
+  Eigen::VectorXd next(const Eigen::VectorXd& x, const Eigen::VectorXd& hx);
+  // |H(x) - x| <= tolerance max(|H(x)|, floor).
+  static bool converged(const Eigen::VectorXd& x, const Eigen::VectorXd& hx, Real tolerance, Real floor);
+
+ private:
+  struct Column {
+    Eigen::VectorXd dr, dh;  // differences of the residual and of H between two iterations
+  };
+  int reuse_steps_;
+  std::vector<Column> current_;
+  std::deque<std::vector<Column>> earlier_;  // newest first
+  Eigen::VectorXd last_r_, last_h_;
+  bool has_last_ = false;
+};
+
+}  // namespace isph
