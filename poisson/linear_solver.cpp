@@ -75,11 +75,6 @@ struct SetValues {
   double value;
   ISPH_HD void operator()(Index i) const { v[i] = value; }
 };
-struct CopyValues {
-  const double* from;
-  double* to;
-  ISPH_HD void operator()(Index i) const { to[i] = from[i]; }
-};
 // r_i^2 and b_i^2 of the residual r = b - A x.
 struct ResidualSquares {
   const int* row_offset;
@@ -361,7 +356,7 @@ SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, std::span<const doub
   }
 
   x0_.resize(n);
-  parallel_for(exec, n, CopyValues{x.data(), x0_.data()});
+  parallel_for(exec, n, CopyElements<double>{x.data(), x0_.data()});
   const double eps = std::numeric_limits<double>::epsilon();
   int remaining = settings_.max_iterations;
   std::string last_note;
@@ -379,7 +374,7 @@ SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, std::span<const doub
     remaining -= std::max(p.iterations, 1);
     if (!p.note.empty()) last_note = p.note;
     if (!all_finite(exec, x)) {
-      parallel_for(exec, n, CopyValues{x0_.data(), x.data()});
+      parallel_for(exec, n, CopyElements<double>{x0_.data(), x.data()});
       report.converged = false;
       report.relative_residual = residual(A);
       return done(notes + "the solver produced NaN/Inf (breakdown or a singular preconditioner" +

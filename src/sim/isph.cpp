@@ -175,15 +175,21 @@ void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
 }
 
 template <int D>
+void IsphSolver<D>::warm_start() {
+  p_trial_.resize(p_.size());  // allocated once: the copy runs on the particles' device
+  parallel_for(exec_, this->size(), CopyElements<Real>{p_.data(), p_trial_.data()});
+}
+
+template <int D>
 void IsphSolver<D>::solve_pressure(FluidStepReport& report, PhaseTimer& timer) {
   timer.time("ppe_solve", [&] {
-    p_trial_ = p_;  // warm start from the last pressure (no allocation after the first step)
+    warm_start();
     report.ppe = solver_->solve(matrix_, rhs_, p_trial_, solves_since_assembly_ > 0);
     ++solves_since_assembly_;
     report.ppe_solver = solver_->name();
     int iterations = report.ppe.iterations;  // of this solve, the fallback's included
     if (!report.ppe.converged && fallback_) {
-      p_trial_ = p_;
+      warm_start();
       report.ppe = fallback_->solve(matrix_, rhs_, p_trial_);
       report.ppe_solver = fallback_->name();
       iterations += report.ppe.iterations;

@@ -58,6 +58,8 @@ class IsphSolver : public FluidParticles<D> {
       Base::settings_, Base::has_structure_, Base::exec_, Base::id_, Base::reference_velocity_;
   void permute_work(const Index* order, Index count) override;
   void compress_matrix();
+  // p_trial_ = p_, the solver's start (the last pressure), copied where the particles are.
+  void warm_start();
   // The pressure force per unit volume on the boundary particles of one kind, into boundary_force_.
   void boundary_pressure_force(bool pairwise, FluidKind target);
 
