@@ -235,8 +235,9 @@ TEST(DeviceStages, TlsphSubstepsQueuedOnTheDeviceMatchTheHost) {
 // The structure's obstacle candidates (a cell list over the obstacles, count, scan and fill) and its
 // overlaps with them found on the device against the host: random obstacle points below a block whose
 // lowest particles reach into them, then 100 steps with the candidates found again every 10. The
-// candidate lists agree exactly (same points, same order), the contact's energy to 1e-12, its depth and
-// pair count exactly, and the states to 1e-12 of their largest value.
+// candidate lists agree exactly (same points, same order), the contact's energy and depth to 1e-12 (the
+// device's pow may differ from the host's in the last bit), its pair count exactly, and the states to
+// 1e-12 of their largest value.
 TEST(DeviceStages, TlsphObstaclesOnTheDeviceMatchTheHost) {
   ISPH_SKIP_WITHOUT_GPU();
   for (unsigned seed : {8u, 9u}) {
@@ -268,7 +269,7 @@ TEST(DeviceStages, TlsphObstaclesOnTheDeviceMatchTheHost) {
         }
         const auto hc = host.obstacle_contact(), dc = device.obstacle_contact();
         EXPECT_NEAR(dc.energy, hc.energy, 1e-12 * hc.energy) << "seed " << seed << ", step " << k;
-        EXPECT_EQ(dc.deepest, hc.deepest) << "seed " << seed << ", step " << k;
+        EXPECT_NEAR(dc.deepest, hc.deepest, 1e-12 * hc.deepest) << "seed " << seed << ", step " << k;
         EXPECT_EQ(dc.pairs, hc.pairs) << "seed " << seed << ", step " << k;
         if (k == 0) EXPECT_GT(hc.pairs, 0) << "seed " << seed << ": nothing overlaps";
       }
