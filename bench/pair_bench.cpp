@@ -109,7 +109,6 @@ PassResult device_pass(const Block& b, const SmoothingKernel<2>& kernel, int rep
   r.grad = grad.to_host();
   return r;
 }
-#endif
 
 double largest_relative_difference(const std::vector<Vec<2>>& a, const std::vector<Vec<2>>& b) {
   double scale = 0, worst = 0;
@@ -117,6 +116,7 @@ double largest_relative_difference(const std::vector<Vec<2>>& a, const std::vect
   for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, std::sqrt(norm2(a[i] - b[i])));
   return scale > 0 ? worst / scale : worst;
 }
+#endif
 
 void print_row(const char* device, const Block& b, const PassResult& r, const std::string& check) {
   const double n = static_cast<double>(b.x.size());

@@ -6,3 +6,13 @@ cd "$(dirname "$0")/.."
 bash scripts/build.sh
 cd build
 ctest --output-on-failure -j "$(nproc)" --timeout 900
+cd ..
+# A machine without nvcc builds without the CUDA backend (the README's fresh Debian 12). Where nvcc is
+# present, the build above has it, so the library and the unit and device tests are built once more
+# without it (build-no-cuda/) and run there: neither configuration can rot unseen.
+if command -v nvcc > /dev/null || [ -x /usr/local/cuda/bin/nvcc ]; then
+  cmake -S . -B build-no-cuda -DCMAKE_BUILD_TYPE=Release -DISPH_CUDA=OFF
+  cmake --build build-no-cuda -j "$(nproc)" --target isph_unit_tests isph_device_tests
+  build-no-cuda/isph_unit_tests --gtest_brief=1
+  build-no-cuda/isph_device_tests --gtest_brief=1
+fi

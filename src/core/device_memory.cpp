@@ -42,10 +42,14 @@ std::atomic<std::size_t> live_managed_bytes{0};
 // Managed memory beyond the card's own would be paged in and out of it; that can hang the GPU, not only
 // this process. So the managed memory held at once is kept under kManagedShare of the device's memory;
 // the rest is left to plain allocations (the solvers' device copies), which fail cleanly when full.
-void* managed_allocate(std::size_t bytes) {
-  constexpr double kManagedShare = 0.8;
+std::size_t device_memory_bytes() {
   std::size_t free_bytes = 0, total = 0;
   check(cudaMemGetInfo(&free_bytes, &total), "cudaMemGetInfo");
+  return total;
+}
+void* managed_allocate(std::size_t bytes) {
+  constexpr double kManagedShare = 0.8;
+  const std::size_t total = device_memory_bytes();
   const std::size_t held = live_managed_bytes.load();
   if (static_cast<double>(held + bytes) > kManagedShare * static_cast<double>(total)) {
     constexpr double GiB = 1024.0 * 1024 * 1024;
@@ -116,6 +120,7 @@ void* device_allocate(std::size_t) { throw std::runtime_error("this build has no
 void device_free(void*) {}
 void copy_host_to_device(void*, const void*, std::size_t) { throw std::runtime_error("this build has no CUDA backend"); }
 void copy_device_to_host(void*, const void*, std::size_t) { throw std::runtime_error("this build has no CUDA backend"); }
+std::size_t device_memory_bytes() { return 0; }
 void* managed_allocate(std::size_t) { throw std::runtime_error("this build has no CUDA backend"); }
 void managed_free(void*, std::size_t) {}
 bool device_accessible(const void*) { return false; }

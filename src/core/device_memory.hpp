@@ -24,6 +24,7 @@ void copy_device_to_host(void* dst, const void* src, std::size_t bytes);
 // the pages to whichever touches them). For state that the device steps and the host reads for output.
 // An allocation that would take the managed memory held beyond 80 % of the device's throws.
 void* managed_allocate(std::size_t bytes);
+std::size_t device_memory_bytes();  // the current device's memory (0 without CUDA)
 void managed_free(void* p, std::size_t bytes);  // bytes: as allocated
 // Whether a kernel can read p: device or managed memory (a null pointer, an empty array's, counts as
 // readable). False for ordinary host memory, and always without CUDA.
