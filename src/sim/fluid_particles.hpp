@@ -230,8 +230,8 @@ class FluidParticles {
   StateVector<Vec<D>> boundary_force_;  // pressure force per unit volume on wall and structure particles
   StateVector<unsigned char> inside_;
   StateVector<Real> body_distance_, body_depth_;
-  StateVector<Real> structure_volume_;
-  mutable StateVector<Index> wall_slot_;  // gather_walls: walls before each particle (entry 0 stays 0)  // volume of each structure particle, indexed as in TLSPH
+  StateVector<Real> structure_volume_;  // volume of each structure particle, indexed as in TLSPH
+  mutable StateVector<Index> wall_slot_;  // gather_walls: walls before each particle (entry 0 stays 0)
   StateVector<unsigned char> permute_scratch_;
   CellList<D> cells_;  // cpu
   NeighbourList neighbours_;
