@@ -15,8 +15,9 @@
 #   spmv    : isph_ppe_bench --spmv-only, cuSPARSE, the vector CSR kernel and the host SpMV against the
 #             copy bandwidth
 #   solvers : isph_ppe_bench, every backend on the manufactured PPE at 1e5 and 1e6 unknowns
-#   substeps: isph_substep_bench, one RK4 structure step from 540 to 2e6 particles: host, device with
-#             launches one by one, device with a CUDA graph
+#   substeps: isph_substep_bench, one RK4 structure substep with its interaction power, from 540 to 2e6
+#             particles: host; device with launches one by one, with a CUDA graph (both waiting at
+#             every substep), and queued (advance: one wait for all the substeps)
 #   plate   : the oscillating plate (cases/oscillating_plate.toml) at T/dx = 10 (0.7 s) and 20 (0.2 s) on
 #             the cpu (all cores) and with --device cuda; the tip histories are compared (to 1e-8)
 #   fluid   : bench/case_sweep.py, the dam break and the gate from 1e4 to 1e6 fluid particles with
