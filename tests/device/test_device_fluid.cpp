@@ -1,6 +1,7 @@
 // The ISPH stages that build the PPE, on the GPU against the host, on fresh random fluid blocks over
 // a wall: the gradient correction, the corrected divergence of u*, and the PPE rows (matrix, right-hand
-// side, wall moments), each within a relative 1e-12, the column indices exactly. The device outputs
+// side, wall moments), each within a relative 1e-12, the column indices exactly; and the coupled
+// step's own stages on random arrays. The device outputs
 // are poisoned with NaN bytes first. This file is compiled by nvcc in builds with the CUDA backend, so
 // that it can launch the functors on the device; it is skipped without a GPU.
 #include <gtest/gtest.h>
@@ -12,9 +13,13 @@
 #include <vector>
 
 #include "core/neighbour_search.hpp"
+#include "core/ordered_sum.hpp"
 #include "core/parallel.hpp"
 #include "gpu_skip.hpp"
 #include "poisson/ppe_assembly.hpp"
+#include "sim/fluid_functors.hpp"
+#include "structure/interaction.hpp"
+#include "structure/tlsph_functors.hpp"
 
 using namespace isph;
 
@@ -147,4 +152,83 @@ TEST(DeviceFluid, PpeAssemblyStagesMatchTheHost) {
 #else
   FAIL() << "a CUDA device is visible but this test was not compiled by nvcc";
 #endif
+}
+
+// The coupled step's own stages on the GPU against the host, on fresh random arrays, the device outputs
+// poisoned first: alpha = f/rho (InteractionAcceleration), the chord velocity and a_s (ChordMotion), the
+// ramped interaction field with Velocity-Verlet's stored acceleration (SetInteraction), the force on
+// the structure (ForceComponent, summed by ordered_sum), and the walls gathered as obstacles (MarkWalls,
+// inclusive_scan, GatherWalls). Each within a relative 1e-12; the walls' places and points exactly.
+TEST(DeviceFluid, CouplingStagesMatchTheHost) {
+  ISPH_SKIP_WITHOUT_GPU();
+  const Exec gpu{Device::cuda}, host{};
+  for (unsigned seed : {11u, 12u}) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<Real> u(-1.0, 1.0);
+    const Index n = 3000 + 500 * static_cast<Index>(seed);
+    const auto vectors = [&] {
+      std::vector<Vec<2>> v(n);
+      for (auto& e : v) e = {{u(rng), u(rng)}};
+      return v;
+    };
+    const auto positive = [&] {
+      std::vector<Real> v(n);
+      for (auto& e : v) e = 1.5 + u(rng);
+      return v;
+    };
+    const std::vector<Vec<2>> force = vectors(), x = vectors(), x_old = vectors(), v_mean = vectors(), from = vectors(),
+                              to = vectors(), interaction0 = vectors(), acc0 = vectors();
+    const std::vector<Real> density = positive(), volume = positive();
+    std::vector<FluidKind> kind(n);
+    for (auto& k : kind) k = static_cast<FluidKind>(std::uniform_int_distribution<int>(0, 2)(rng));
+    const Real inverse_dt = 1.0 / (1e-4 * (1.5 + u(rng))), s = 0.5 * (1 + u(rng));
+
+    // the host
+    std::vector<Vec<2>> alpha(n), v_new(n), a_new(n), interaction = interaction0, acc = acc0;
+    parallel_for(host, n, InteractionAcceleration<2>{force.data(), density.data(), alpha.data()});
+    parallel_for(host, n, ChordMotion<2>{x.data(), x_old.data(), v_mean.data(), inverse_dt, v_new.data(), a_new.data()});
+    parallel_for(host, n, SetInteraction<2>{from.data(), to.data(), s, interaction.data(), acc.data()});
+    StateVector<double> host_partial;
+    Vec<2> host_total;
+    for (int d = 0; d < 2; ++d)
+      host_total[d] = ordered_sum(host, n, ForceComponent<2>{volume.data(), force.data(), d}, host_partial);
+    std::vector<Index> slot(n + 1, 0);
+    parallel_for(host, n, MarkWalls{kind.data(), slot.data()});
+    inclusive_scan(host, slot.data() + 1, n);
+    std::vector<Vec<2>> wall_point(slot[n]);
+    std::vector<Real> wall_radius(slot[n]);
+    parallel_for(host, n, GatherWalls<2>{kind.data(), x.data(), volume.data(), slot.data(), wall_point.data(), wall_radius.data()});
+    ASSERT_GT(slot[n], 0) << "seed " << seed;
+
+    // the device
+    const DeviceArray<Vec<2>> d_force(force), d_x(x), d_x_old(x_old), d_v_mean(v_mean), d_from(from), d_to(to);
+    const DeviceArray<Real> d_density(density), d_volume(volume);
+    const DeviceArray<FluidKind> d_kind(kind);
+    DeviceArray<Vec<2>> d_alpha = poisoned<Vec<2>>(n), d_v_new = poisoned<Vec<2>>(n), d_a_new = poisoned<Vec<2>>(n);
+    DeviceArray<Vec<2>> d_interaction(interaction0), d_acc(acc0);
+    parallel_for(gpu, n, InteractionAcceleration<2>{d_force.data(), d_density.data(), d_alpha.data()});
+    parallel_for(gpu, n, ChordMotion<2>{d_x.data(), d_x_old.data(), d_v_mean.data(), inverse_dt, d_v_new.data(), d_a_new.data()});
+    parallel_for(gpu, n, SetInteraction<2>{d_from.data(), d_to.data(), s, d_interaction.data(), d_acc.data()});
+    StateVector<double> device_partial{StateAllocator<double>(true)};
+    for (int d = 0; d < 2; ++d) {
+      const double total = ordered_sum(gpu, n, ForceComponent<2>{d_volume.data(), d_force.data(), d}, device_partial);
+      EXPECT_NEAR(total, host_total[d], 1e-12 * std::abs(host_total[d])) << "seed " << seed << ", component " << d;
+    }
+    DeviceArray<Index> d_slot(std::vector<Index>(n + 1, 0));
+    parallel_for(gpu, n, MarkWalls{d_kind.data(), d_slot.data()});
+    inclusive_scan(gpu, d_slot.data() + 1, n);
+    DeviceArray<Vec<2>> d_wall_point = poisoned<Vec<2>>(slot[n]);
+    DeviceArray<Real> d_wall_radius = poisoned<Real>(slot[n]);
+    parallel_for(gpu, n, GatherWalls<2>{d_kind.data(), d_x.data(), d_volume.data(), d_slot.data(), d_wall_point.data(),
+                                        d_wall_radius.data()});
+
+    EXPECT_LT(relative_difference(alpha, d_alpha), 1e-12) << "seed " << seed;
+    EXPECT_LT(relative_difference(v_new, d_v_new), 1e-12) << "seed " << seed;
+    EXPECT_LT(relative_difference(a_new, d_a_new), 1e-12) << "seed " << seed;
+    EXPECT_LT(relative_difference(interaction, d_interaction), 1e-12) << "seed " << seed;
+    EXPECT_LT(relative_difference(acc, d_acc), 1e-12) << "seed " << seed;
+    EXPECT_EQ(d_slot.to_host(), slot) << "seed " << seed;
+    EXPECT_EQ(relative_difference(wall_point, d_wall_point), 0.0) << "seed " << seed;
+    EXPECT_LT(relative_difference(wall_radius, d_wall_radius), 1e-12) << "seed " << seed;
+  }
 }
