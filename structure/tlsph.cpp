@@ -224,8 +224,7 @@ Real TlsphSolver<D>::advance(Real t, Real dt, int count, InteractionRamp<D> ramp
   power_record_.resize(2 * static_cast<std::size_t>(count));
   const auto record_power = [&](int slot) {
     if (with_power)
-      ordered_sum_into(exec, n_, PowerTerm<D>{nullptr, mass_.data(), interaction_.data(), v_.data(), 1.0}, block_sums_,
-                       power_record_.data() + slot);
+      ordered_sum_into(exec, n_, interaction_power_term(), block_sums_, power_record_.data() + slot);
   };
   for (int k = 0; k < count; ++k) {
     if (ramp.from)
@@ -435,7 +434,7 @@ void TlsphSolver<D>::set_motion(std::span<const Vec<D>> x, std::span<const Vec<D
 template <int D>
 Real TlsphSolver<D>::interaction_power() const {
   if (interaction_.empty()) return 0;
-  return ordered_sum(waiting_exec(), n_, PowerTerm<D>{nullptr, mass_.data(), interaction_.data(), v_.data(), 1.0}, block_sums_);
+  return ordered_sum(waiting_exec(), n_, interaction_power_term(), block_sums_);
 }
 
 template <int D>

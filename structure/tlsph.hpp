@@ -174,6 +174,10 @@ class TlsphSolver {
   // also supplies, this is the clamp's work (clamp_work). Summed in fixed blocks (ordered_sum).
   Real clamp_power() const;
   Real clamped_kinetic_energy() const;
+  // m_a alpha_a · v_a, the interaction's power per particle (interaction_power, advance).
+  PowerTerm<D> interaction_power_term() const {
+    return {nullptr, mass_.data(), interaction_.data(), v_.data(), 1.0};
+  }
   void make_state_device_visible();
   // Launches that wait for each other (the host's, or the device's one by one).
   Exec waiting_exec() const { return Exec{exec_.device}; }

@@ -238,7 +238,7 @@ ISPH_HD inline void for_each_wall_overlap(const ObstacleView<D>& o, Index a, con
                                           const Vec<D>& xa, F&& f) {
   if (o.offset[a] == o.offset[a + 1]) return;
   const Real modulus = m.lambda + 2 * m.mu;
-  const Real spacing = pow(volume, 1.0 / D);
+  const Real spacing = particle_spacing<D>(volume);
   const Real stiffness = modulus * pow(spacing, D - 2.0);
   const Real rate = modulus / (m.density * spacing * spacing);
   for (Index k = o.offset[a]; k < o.offset[a + 1]; ++k) {

@@ -39,14 +39,14 @@ void copy_device_to_host(void* dst, const void* src, std::size_t bytes) {
 namespace {
 std::atomic<std::size_t> live_managed_bytes{0};
 }  // namespace
-// Managed memory beyond the card's own would be paged in and out of it; that can hang the GPU, not only
-// this process. So the managed memory held at once is kept under kManagedShare of the device's memory;
-// the rest is left to plain allocations (the solvers' device copies), which fail cleanly when full.
 std::size_t device_memory_bytes() {
   std::size_t free_bytes = 0, total = 0;
   check(cudaMemGetInfo(&free_bytes, &total), "cudaMemGetInfo");
   return total;
 }
+// Managed memory beyond the card's own would be paged in and out of it; that can hang the GPU, not only
+// this process. So the managed memory held at once is kept under kManagedShare of the device's memory;
+// the rest is left to plain allocations (the solvers' device copies), which fail cleanly when full.
 void* managed_allocate(std::size_t bytes) {
   constexpr double kManagedShare = 0.8;
   const std::size_t total = device_memory_bytes();

@@ -60,6 +60,10 @@ ISPH_HD inline Real dot(const Vec<D>& a, const Vec<D>& b) {
 template <int D>
 ISPH_HD inline Real norm2(const Vec<D>& a) { return dot(a, a); }
 
+// The spacing of a particle of volume V (its cell's edge), V^(1/D).
+template <int D>
+ISPH_HD inline Real particle_spacing(Real volume) { return pow(volume, 1.0 / D); }
+
 // Row-major D x D matrix.
 template <int D>
 struct Mat {

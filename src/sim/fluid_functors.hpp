@@ -318,7 +318,7 @@ struct GatherWalls {
   ISPH_HD void operator()(Index k) const {
     if (kind[k] != FluidKind::wall) return;
     point[slot[k]] = x[k];
-    radius[slot[k]] = 0.5 * pow(volume[k], 1.0 / D);
+    radius[slot[k]] = 0.5 * particle_spacing<D>(volume[k]);
   }
 };
 
@@ -344,6 +344,17 @@ struct FollowStructure {
     const Vec<D> n = transpose(inverse(F[s])) * reference_normal[k];
     const Real len = sqrt(norm2(n));
     wall_normal[k] = len > 0 ? (1.0 / len) * n : Vec<D>::zero();
+  }
+};
+
+// ... and their acceleration over the step.
+template <int D>
+struct FollowStructureAcceleration {
+  const Index* structure_index;
+  const Vec<D>* acceleration;
+  Vec<D>* wall_acceleration;
+  ISPH_HD void operator()(Index k) const {
+    if (const Index s = structure_index[k]; s >= 0) wall_acceleration[k] = acceleration[s];
   }
 };
 
@@ -386,17 +397,6 @@ struct MovingWallPressurePower {
   const Vec<D>* wall_velocity;
   ISPH_HD Real operator()(Index a) const {
     return motion[a] >= 0 ? -volume[a] * dot(boundary_force[a], wall_velocity[a]) : 0;
-  }
-};
-
-// ... and their acceleration over the step.
-template <int D>
-struct FollowStructureAcceleration {
-  const Index* structure_index;
-  const Vec<D>* acceleration;
-  Vec<D>* wall_acceleration;
-  ISPH_HD void operator()(Index k) const {
-    if (const Index s = structure_index[k]; s >= 0) wall_acceleration[k] = acceleration[s];
   }
 };
 
