@@ -1,11 +1,14 @@
 #pragma once
 // What the regression tests share: running the `isph` command and reading its output files.
+#include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -44,9 +47,28 @@ inline CommandResult isph(const std::string& args) {
   return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, out};
 }
 
+// Every test process writes its runs under a folder of its own, isph_regression_<pid> in the temporary
+// folder, so that two suites run at once on one machine (a developer's build and a fresh clone's) cannot
+// remove or overwrite each other's outputs. The folder is removed when every test of the process passed,
+// and kept, with its path printed, when one failed.
+class TestOutputRoot : public ::testing::Environment {
+ public:
+  static const fs::path& path() {
+    static const fs::path root = fs::temp_directory_path() / ("isph_regression_" + std::to_string(::getpid()));
+    return root;
+  }
+  void TearDown() override {
+    if (!fs::exists(path())) return;
+    if (::testing::UnitTest::GetInstance()->Passed()) fs::remove_all(path());
+    else std::cerr << "the runs' outputs are kept in " << path().string() << "\n";
+  }
+};
+inline ::testing::Environment* const kTestOutputRoot = ::testing::AddGlobalTestEnvironment(new TestOutputRoot);
+
 inline fs::path fresh_dir(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("isph_regression_" + name);
+  const fs::path p = TestOutputRoot::path() / name;
   fs::remove_all(p);
+  fs::create_directories(p.parent_path());
   return p;
 }
 

@@ -128,7 +128,7 @@ TEST(BadInput, ClearErrors) {
       {"check " + plate + " --set 'probes.0.point=[0.5,0.5]'", "outside"},
       {"check " + plate + " --set 'bodies.0.clamps.0.max=[-0.0059,0.01]' --set 'bodies.0.clamps.0.min=[-0.006,-0.01]'",
        "clamp"},
-      {"run " + plate + " --set structure.integrator=euler --out /tmp/isph_regression_bad", "integrator"},
+      {"run " + plate + " --set structure.integrator=euler --out " + fresh_dir("bad").string(), "integrator"},
   };
   for (const auto& [args, word] : cases) {
     const auto r = isph(args);

@@ -1,5 +1,6 @@
 // The case loader: defaults, every class of problem, overrides, the resolved configuration.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -97,7 +98,7 @@ class CaseLoaderTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("isph_case_loader_" + std::string(test->name()));
+    dir_ = fs::temp_directory_path() / ("isph_case_loader_" + std::to_string(::getpid()) + "_" + test->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }

@@ -1,6 +1,7 @@
 // The ISPH fluid stage: periodic neighbours, free-surface classification, the PPE matrix against a
 // dense assembly, and the hydrostatic pressure of one projection step.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -40,8 +41,8 @@ std::string tank_case(double width, double depth, int rows, double freeboard, co
 
 CaseSpec load_text(const std::string& text) {
   const auto path = std::filesystem::temp_directory_path() /
-                    ("isph_fluid_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
-                     ".toml");
+                    ("isph_fluid_" + std::to_string(::getpid()) + "_" +
+                     ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".toml");
   std::ofstream(path) << text;
   CaseSpec spec = load_case(path.string());
   std::filesystem::remove(path);
