@@ -34,7 +34,10 @@
 //
 // alpha over the substeps: "held" (default) applies the iterate's alpha, the pressure of the step's end,
 // to every substep; "interpolated" ramps it linearly from the last step's converged alpha, substep k
-// getting alpha^n + (k + 1/2)/n_sub (alpha^{n+1} - alpha^n) (docs/VALIDATION.md measures the difference).
+// getting alpha^n + (k + 1/2)/n_sub (alpha^{n+1} - alpha^n). The ramp makes alpha^n two thirds of the
+// load in the step's chord displacement, and that share of the added mass acts explicitly: a mode whose
+// added mass exceeds three times its own mass then flips sign every fluid step and grows
+// (docs/VALIDATION.md section 12, with the model and the measured growth).
 // The interaction's work over a substep is the trapezoidal rule on the power of that substep's field at
 // its two ends (TlsphSolver::advance; on the device the substeps and their powers are queued, and the
 // host waits once per fluid step and interface iteration).
