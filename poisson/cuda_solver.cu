@@ -17,6 +17,7 @@
 
 #include "core/device_memory.hpp"
 #include "poisson/cuda_solver.hpp"
+#include "poisson/device_array_ops.hpp"
 #include "poisson/krylov.hpp"
 
 namespace isph {
@@ -83,25 +84,8 @@ void vector_csr(int lanes, int rows, const int* row_offset, const int* col, cons
   }
 }
 
-class CudaOps {
+class CudaOps : public DeviceArrayOps {
  public:
-  using Vector = DeviceArray<double>;
-  template <class T>
-  using Array = DeviceArray<T>;
-  template <class T>
-  Array<T> array(std::size_t n) const {
-    return Array<T>(n);
-  }
-  template <class T>
-  std::vector<T> to_host(const T* p, std::size_t n) const {
-    std::vector<T> h(n);
-    copy_device_to_host(h.data(), p, n * sizeof(T));
-    return h;
-  }
-  template <class T>
-  Array<T> from_host(const std::vector<T>& v) const {
-    return Array<T>(v);
-  }
 
   // lanes: the vector CSR kernel's threads per row; 0 chooses them from each matrix (vector_csr_lanes).
   explicit CudaOps(SpmvAlgorithm algorithm = SpmvAlgorithm::reproducible, int lanes = 0)
@@ -116,14 +100,6 @@ class CudaOps {
   }
   CudaOps(const CudaOps&) = delete;
   CudaOps& operator=(const CudaOps&) = delete;
-
-  static constexpr Device device = Device::cuda;
-  Exec exec() const { return Exec{device}; }
-  Vector vector(int n) const { return Vector(static_cast<std::size_t>(n)); }
-  static double* data(Vector& v) { return v.data(); }
-  static const double* data(const Vector& v) { return v.data(); }
-  void upload(std::span<const double> h, Vector& v) const { v.upload(h); }
-  void download(const Vector& v, std::span<double> h) const { v.download(h); }
 
   // The device arrays are reused from matrix to matrix (reallocated only when a size changes); the
   // descriptors, host-side objects, are made anew.

@@ -21,6 +21,7 @@ std::unique_ptr<LinearSolver> make_eigen_solver(const SolverSettings&);
 std::unique_ptr<LinearSolver> make_hypre_solver(const SolverSettings&);
 std::unique_ptr<LinearSolver> make_native_solver(const SolverSettings&);
 std::unique_ptr<LinearSolver> make_cuda_solver(const SolverSettings&);
+std::unique_ptr<LinearSolver> make_debug_device_solver(const SolverSettings&);  // cuda on the debug device
 }  // namespace detail
 
 namespace {
@@ -233,7 +234,7 @@ std::unique_ptr<LinearSolver> make_linear_solver(const SolverSettings& s) {
     return detail::make_hypre_solver(s);
   }
   if (s.backend == "native") return detail::make_native_solver(s);
-  if (s.backend == "cuda") return detail::make_cuda_solver(s);
+  if (s.backend == "cuda") return device_emulated() ? detail::make_debug_device_solver(s) : detail::make_cuda_solver(s);
   return detail::make_eigen_solver(s);
 }
 

@@ -31,6 +31,13 @@ struct CsrRowProduct {
   }
 };
 
+// x_i y_i, the terms of a dot product (for ordered_sum).
+struct ProductAt {
+  const double* x;
+  const double* y;
+  ISPH_HD double operator()(Index i) const { return x[i] * y[i]; }
+};
+
 // r_i - sum_k A_ik z_k over row i of a CSR matrix.
 ISPH_HD inline double row_residual(const int* row_offset, const int* col, const double* val, const double* r,
                                    const double* z, Index i) {

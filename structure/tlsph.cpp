@@ -130,7 +130,7 @@ void TlsphSolver<D>::make_state_device_visible() {
   make_device_visible(volume_), make_device_visible(cell_moment_), make_device_visible(hg_weight_), make_device_visible(psi_);
   make_device_visible(material_), make_device_visible(motion_), make_device_visible(mass_);
   make_device_visible(fixed_);
-  make_device_visible(clamp_poses_), make_device_visible(block_sums_), make_device_visible(power_record_);
+  make_device_visible(block_sums_), make_device_visible(power_record_), make_device_visible(clamp_record_);
   make_device_visible(nbr_offset_), make_device_visible(nbr_);
   make_device_visible(contact_offset_), make_device_visible(contact_point_), make_device_visible(contact_radius_);
   for (auto* v : {&load_acc_, &interaction_, &X_, &x_, &v_, &acc_, &cgrad_, &rcgrad_, &cgrad_sum_, &x0_, &v0_,
@@ -208,8 +208,9 @@ void TlsphSolver<D>::step(Real t, Real dt) {
     step_verlet(t, dt);
     return;
   }
-  step_rk4(queues_steps() ? graph_->exec() : waiting_exec(), t, dt);
+  step_rk4(queues_steps() ? graph_->exec() : waiting_exec(), t, dt, clamp_record(1));
   if (queues_steps()) graph_->synchronize();
+  add_clamp_work(1, dt);
 }
 
 template <int D>
@@ -222,6 +223,7 @@ Real TlsphSolver<D>::advance(Real t, Real dt, int count, InteractionRamp<D> ramp
   // The power at the start (slot 2k) and the end (2k + 1) of step k. Under a held field a step starts
   // with the power its predecessor ended with, so only the first start is evaluated.
   power_record_.resize(2 * static_cast<std::size_t>(count));
+  Real* const clamp_slots = integrator_ == StructureIntegrator::rk4 ? clamp_record(count) : nullptr;
   const auto record_power = [&](int slot) {
     if (with_power)
       ordered_sum_into(exec, n_, interaction_power_term(), block_sums_, power_record_.data() + slot);
@@ -232,12 +234,13 @@ Real TlsphSolver<D>::advance(Real t, Real dt, int count, InteractionRamp<D> ramp
                                                verlet_started_ ? acc_.data() : nullptr});
     if (ramp.from || k == 0) record_power(2 * k);
     if (integrator_ == StructureIntegrator::rk4)
-      step_rk4(exec, t + k * h, h);
+      step_rk4(exec, t + k * h, h, clamp_slots ? clamp_slots + 6 * k : nullptr);
     else
       step_verlet(t + k * h, h);
     record_power(2 * k + 1);
   }
   if (queued) graph_->synchronize();
+  if (clamp_slots) add_clamp_work(count, h);
   Real work = 0;
   if (with_power)
     for (int k = 0; k < count; ++k) {
@@ -247,24 +250,46 @@ Real TlsphSolver<D>::advance(Real t, Real dt, int count, InteractionRamp<D> ramp
   return work;
 }
 
+namespace {
+constexpr Real kRk4Sum[4] = {1.0 / 6, 1.0 / 3, 1.0 / 3, 1.0 / 6};  // each stage's weight in the step (Eqs. 43-45)
+}  // namespace
+
 template <int D>
-void TlsphSolver<D>::rk4_launches(const Exec& exec, Real t, Real dt) {
+void TlsphSolver<D>::rk4_launches(const Exec& exec, Real t, Real dt, Real* clamp_record) {
   parallel_for(exec, n_, StartRungeKutta<D>{x_.data(), v_.data(), x0_.data(), v0_.data(), x_sum_.data(), v_sum_.data()});
-  constexpr Real w_sum[4] = {1.0 / 6, 1.0 / 3, 1.0 / 3, 1.0 / 6};
   constexpr Real w_next[4] = {0.5, 0.5, 1.0, 1.0};  // the last unused: that stage writes the result
   constexpr Real t_stage[4] = {0.0, 0.5, 0.5, 1.0};
   const bool clamps_move = !motions_.empty();
-  const Real clamped_energy = clamps_move ? clamped_kinetic_energy() : 0;
+  if (clamps_move) ordered_sum_into(exec, n_, clamped_energy_term(), block_sums_, clamp_record);
   for (int k = 0; k < 4; ++k) {
     prescribe_clamps(exec, t + t_stage[k] * dt);
     evaluate(exec, t + t_stage[k] * dt);
-    if (clamps_move) clamp_work_ += w_sum[k] * dt * clamp_power();  // RK4's own quadrature
+    if (clamps_move) ordered_sum_into(exec, n_, clamp_power_term(), block_sums_, clamp_record + 1 + k);
     parallel_for(exec, n_,
                  RungeKuttaStage<D>{n_, x0_.data(), v0_.data(), acc_.data(), fixed_.data(), x_.data(), v_.data(),
-                                    x_sum_.data(), v_sum_.data(), dt, w_sum[k], w_next[k], k == 3});
+                                    x_sum_.data(), v_sum_.data(), dt, kRk4Sum[k], w_next[k], k == 3});
   }
   prescribe_clamps(exec, t + dt);
-  if (clamps_move) clamp_work_ += clamped_kinetic_energy() - clamped_energy;
+  if (clamps_move) ordered_sum_into(exec, n_, clamped_energy_term(), block_sums_, clamp_record + 5);
+}
+
+template <int D>
+Real* TlsphSolver<D>::clamp_record(int steps) {
+  if (motions_.empty()) return nullptr;
+  resize_for_overwrite(clamp_record_, 6 * static_cast<std::size_t>(steps));
+  return clamp_record_.data();
+}
+
+// The clamps' work: the stages' powers by RK4's own quadrature, then the change of the clamped
+// particles' kinetic energy, which the clamps also supply; added in the order of the steps.
+template <int D>
+void TlsphSolver<D>::add_clamp_work(int steps, Real dt) {
+  if (motions_.empty()) return;
+  for (int s = 0; s < steps; ++s) {
+    const Real* record = clamp_record_.data() + 6 * s;
+    for (int k = 0; k < 4; ++k) clamp_work_ += kRk4Sum[k] * dt * record[1 + k];
+    clamp_work_ += record[5] - record[0];
+  }
 }
 
 template <int D>
@@ -276,11 +301,11 @@ bool TlsphSolver<D>::replayable(Real t) const {
 }
 
 template <int D>
-void TlsphSolver<D>::step_rk4(const Exec& exec, Real t, Real dt) {
+void TlsphSolver<D>::step_rk4(const Exec& exec, Real t, Real dt, Real* clamp_record) {
   pair_evaluations_ += 4 * evaluation_passes() * static_cast<long long>(pairs());
   replayed_graph_ = false;
   if (exec.device == Device::cpu || exec.wait || !replayable(t)) {
-    rk4_launches(exec, t, dt);
+    rk4_launches(exec, t, dt, clamp_record);
     return;
   }
   // The arrays stay in place from step to step; only the interaction field is allocated late (its
@@ -288,7 +313,8 @@ void TlsphSolver<D>::step_rk4(const Exec& exec, Real t, Real dt) {
   if (!graph_->recorded() || dt != recorded_dt_ || interaction_.data() != recorded_interaction_ ||
       contact_point_.data() != recorded_contact_point_ || contact_radius_.data() != recorded_contact_radius_) {
     graph_->synchronize();  // the stream is captured empty
-    graph_->record([&](const Exec& capture) { rk4_launches(capture, t, dt); });
+    // By value: the debug device calls the recorded function again at each replay.
+    graph_->record([this, t, dt](const Exec& capture) { rk4_launches(capture, t, dt, nullptr); });  // no clamp moves
     recorded_dt_ = dt;
     recorded_interaction_ = interaction_.data();
     recorded_contact_point_ = contact_point_.data();
@@ -320,19 +346,17 @@ void TlsphSolver<D>::step_verlet(Real t, Real dt) {
 template <int D>
 void TlsphSolver<D>::prescribe_clamps(const Exec& exec, Real t) {
   if (motions_.empty()) return;
-  clamp_poses_.resize(motions_.size());
-  for (std::size_t m = 0; m < motions_.size(); ++m) clamp_poses_[m] = motions_[m].pose(t);
-  parallel_for(exec, n_, PrescribeClamps<D>{motion_.data(), clamp_poses_.data(), X_.data(), x_.data(), v_.data()});
+  parallel_for(exec, n_, PrescribeClamps<D>{motion_.data(), poses_at(motions_, t), X_.data(), x_.data(), v_.data()});
 }
 
 template <int D>
 Real TlsphSolver<D>::clamp_power() const {
-  return ordered_sum(waiting_exec(), n_, PowerTerm<D>{motion_.data(), mass_.data(), acc_.data(), v_.data(), -1.0}, block_sums_);
+  return ordered_sum(waiting_exec(), n_, clamp_power_term(), block_sums_);
 }
 
 template <int D>
 Real TlsphSolver<D>::clamped_kinetic_energy() const {
-  return ordered_sum(waiting_exec(), n_, KineticEnergyTerm<D>{motion_.data(), mass_.data(), v_.data()}, block_sums_);
+  return ordered_sum(waiting_exec(), n_, clamped_energy_term(), block_sums_);
 }
 
 template <int D>
@@ -372,7 +396,7 @@ Real TlsphSolver<D>::potential_energy() const {
 template <int D>
 void TlsphSolver<D>::set_interaction(std::span<const Vec<D>> acc) {
   if (static_cast<Index>(acc.size()) != n_) throw std::invalid_argument("set_interaction: one value per particle");
-  interaction_.resize(acc.size());  // allocated once (zero): a recorded graph keeps addressing it
+  interaction_.resize(acc.size());  // allocated once, filled below: a recorded graph keeps addressing it
   // Velocity-Verlet's next opening kick reuses acc_, evaluated with the old field: it is moved to the new
   // field exactly, without a new evaluation. Values in ordinary host memory are copied on the host.
   parallel_for(exec_reading(acc.data()), n_,
@@ -383,8 +407,8 @@ template <int D>
 void TlsphSolver<D>::set_obstacles(std::span<const Vec<D>> point, std::span<const Real> radius, Real reach) {
   if (point.size() != radius.size()) throw std::invalid_argument("set_obstacles: one radius per point");
   const Index m = static_cast<Index>(point.size());
-  obstacle_point_.resize(m);
-  obstacle_radius_.resize(m);
+  resize_for_overwrite(obstacle_point_, m);
+  resize_for_overwrite(obstacle_radius_, m);
   parallel_for(exec_reading(point.data()), m, CopyElements<Vec<D>>{point.data(), obstacle_point_.data()});
   parallel_for(exec_reading(radius.data()), m, CopyElements<Real>{radius.data(), obstacle_radius_.data()});
   if (m > 0 && exec_.device == Device::cuda)  // both keep addressing obstacle_point_
@@ -402,8 +426,8 @@ void TlsphSolver<D>::find_obstacle_candidates() {
   parallel_for(exec, n_, CountObstacleCandidates<D>{near, any, fixed_.data(), x_.data(), contact_offset_.data() + 1});
   inclusive_scan(exec, contact_offset_.data() + 1, n_);  // contact_offset_[0] stays 0
   const Index candidates = contact_offset_[n_];  // one value back from the device
-  contact_point_.resize(candidates);
-  contact_radius_.resize(candidates);
+  resize_for_overwrite(contact_point_, candidates);
+  resize_for_overwrite(contact_radius_, candidates);
   parallel_for(exec, n_, FillObstacleCandidates<D>{near, any, fixed_.data(), x_.data(), obstacle_radius_.data(),
                                                    contact_offset_.data(), contact_point_.data(), contact_radius_.data()});
 }

@@ -159,10 +159,17 @@ class TlsphSolver {
 
  private:
   void evaluate(const Exec& exec, Real t);  // acc at the current (x, v)
-  void rk4_launches(const Exec& exec, Real t, Real dt);
+  // One RK4 step's launches. With moving clamps they also sum, into clamp_record[0..5] (memory of the
+  // solver's device), the clamped particles' kinetic energy at the start, the clamps' power at each of
+  // the four stages and the kinetic energy at the end, which add_clamp_work books.
+  void rk4_launches(const Exec& exec, Real t, Real dt, Real* clamp_record);
   // One RK4 step sent to exec; on the device's graph stream (graph_->exec()) the recorded graph is
   // replayed where it may be (replayable), recorded first when stale. Does not wait.
-  void step_rk4(const Exec& exec, Real t, Real dt);
+  void step_rk4(const Exec& exec, Real t, Real dt, Real* clamp_record);
+  // Room in clamp_record_ for `steps` RK4 steps (none without moving clamps), and the clamps' work of
+  // those steps from it once they have run: read back once, not after every stage.
+  Real* clamp_record(int steps);
+  void add_clamp_work(int steps, Real dt);
   bool replayable(Real t) const;  // no ramping load at t, no moving clamp, graphs on
   // Whether advance() and step() queue RK4 steps on the graph's stream (device, RK4, no moving clamp).
   bool queues_steps() const;
@@ -174,6 +181,8 @@ class TlsphSolver {
   // also supplies, this is the clamp's work (clamp_work). Summed in fixed blocks (ordered_sum).
   Real clamp_power() const;
   Real clamped_kinetic_energy() const;
+  PowerTerm<D> clamp_power_term() const { return {motion_.data(), mass_.data(), acc_.data(), v_.data(), -1.0}; }
+  KineticEnergyTerm<D> clamped_energy_term() const { return {motion_.data(), mass_.data(), v_.data()}; }
   // m_a alpha_a · v_a, the interaction's power per particle (interaction_power, advance).
   PowerTerm<D> interaction_power_term() const {
     return {nullptr, mass_.data(), interaction_.data(), v_.data(), 1.0};
@@ -214,9 +223,9 @@ class TlsphSolver {
   StateVector<unsigned char> fixed_;
   StateVector<Index> motion_;
   std::vector<RigidMotion<D>> motions_;
-  StateVector<RigidPose<D>> clamp_poses_;  // each motion's pose at the time of the last prescribe_clamps
   mutable StateVector<Real> block_sums_;   // ordered_sum's scratch
   StateVector<Real> power_record_;         // advance(): the interaction's power at each step's ends
+  StateVector<Real> clamp_record_;         // rk4_launches with moving clamps: six sums per step
   Real clamp_work_ = 0, saved_clamp_work_ = 0;
   StateVector<Index> nbr_offset_, nbr_;
   StateVector<Vec<D>> cgrad_;

@@ -391,7 +391,7 @@ struct StartRungeKutta {
 template <int D>
 struct PrescribeClamps {
   const Index* motion;
-  const RigidPose<D>* pose;
+  PoseTable<D> pose;
   const Vec<D>* X;
   Vec<D>* x;
   Vec<D>* v;

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "core/device_emulation.hpp"
 #include "io/case_loader.hpp"
 #include "sim/run.hpp"
 #include "sim/scene.hpp"
@@ -57,8 +58,10 @@ int main(int argc, char** argv) {
   run->add_option("case", case_path, "case file (TOML)")->required();
   run->add_option("--out", out_dir, "output directory (default out/<case name>)");
   run->add_option("--set", overrides, "override a case key: --set dotted.key=value (repeatable)");
-  run->add_option("--device", device, "cpu | cuda (cuda: the particle loops run on the GPU, the state in managed memory)")
-      ->check(CLI::IsMember({"cpu", "cuda"}));
+  run->add_option("--device", device,
+                  "cpu | cuda | debug (cuda: the particle loops run on the GPU, the state in managed memory; debug: "
+                  "the cuda path run on the CPU, counting the host's touches of device memory, for testing)")
+      ->check(CLI::IsMember({"cpu", "cuda", "debug"}));
   run->add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
   run->add_flag("--quiet", quiet, "no progress line");
   std::string restart;
@@ -94,7 +97,8 @@ int main(int argc, char** argv) {
     const CaseSpec spec = load_case(case_path, overrides);  // run_case reports scene problems itself
     RunOptions opt;
     opt.out_dir = out_dir;
-    opt.device = device == "cuda" ? Device::cuda : Device::cpu;
+    if (device == "debug") enable_device_emulation();
+    opt.device = device == "cpu" ? Device::cpu : Device::cuda;
     opt.threads = threads;
     opt.progress = !quiet;
     opt.restart = restart;

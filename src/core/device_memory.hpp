@@ -1,6 +1,7 @@
 #pragma once
 // Device memory for the CUDA backend, usable from host-compiled code. Without CUDA
-// (ISPH_HAVE_CUDA undefined) cuda_devices() is 0 and allocation throws.
+// (ISPH_HAVE_CUDA undefined) cuda_devices() is 0 and allocation throws, unless the debug device is on
+// (core/device_emulation.hpp): then the memory is its own, in either build.
 #include <cstddef>
 #include <functional>
 #include <memory>
@@ -32,7 +33,12 @@ bool device_accessible(const void* p);
 
 // The allocator of StateVector: ordinary host memory, or managed memory when made with
 // device_visible = true. Copies, moves and swaps carry the allocator along, so that an array assigned
-// from a device-visible one is device-visible too.
+// from a device-visible one is device-visible too. A device-visible array's new elements are not
+// value-initialised (resize(n) and StateVector(n, allocator) leave them as the memory has them), so that
+// growing an array that a launch fills next does not first write its new pages on the host, moving them
+// there and back; such an array is written by a launch, or given a value (resize(n, v), assign), before
+// it is read. The debug device fills new memory with 0xFF bytes, NaN in every double, so that a read of
+// an element never written shows in its results.
 template <class T>
 struct StateAllocator {
   using value_type = T;
@@ -53,12 +59,36 @@ struct StateAllocator {
     else std::allocator<T>{}.deallocate(p, n);
   }
   template <class U>
+  void construct(U* p) {
+    if (device_visible)
+      ::new (static_cast<void*>(p)) U;
+    else
+      ::new (static_cast<void*>(p)) U();
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+  template <class U>
   bool operator==(const StateAllocator<U>& o) const { return device_visible == o.device_visible; }
 };
 
 // Per-particle state of a solver that may step on the device (structure/tlsph.hpp).
 template <class T>
 using StateVector = std::vector<T, StateAllocator<T>>;
+
+// Sizes v to n elements for a launch to overwrite: when n outgrows the capacity, the old contents are
+// dropped, not copied by the host into the new allocation, and a quarter more is reserved, so that an
+// array whose size wanders (the PPE's entries, step by step) is seldom reallocated.
+template <class T>
+void resize_for_overwrite(StateVector<T>& v, std::size_t n) {
+  if (n > v.capacity()) {
+    StateVector<T> fresh(v.get_allocator());
+    fresh.reserve(n + n / 4);
+    v.swap(fresh);
+  }
+  v.resize(n);
+}
 
 // Moves v's contents into managed memory (the device can then read and write it).
 template <class T>
@@ -67,7 +97,8 @@ void make_device_visible(StateVector<T>& v) {
 }
 
 // Launches recorded once on a stream of their own and replayed as one CUDA graph: many small launches
-// (a structure's substep) then cost one launch. Without CUDA every call throws.
+// (a structure's substep) then cost one launch. On the debug device the recorded function is called
+// again at each replay. Without either, making one throws.
 class LaunchGraph {
  public:
   LaunchGraph();
@@ -77,9 +108,10 @@ class LaunchGraph {
 
   // Launches that go to this graph's stream without waiting (to record them, or to run them directly).
   Exec exec() const { return Exec{Device::cuda, stream_, false}; }
-  // Records what `launches` sends to exec() as the graph (replacing the one recorded before).
+  // Records what `launches` sends to exec() as the graph (replacing the one recorded before). The debug
+  // device keeps `launches` and calls it at each replay, so it must capture what it uses by value.
   void record(const std::function<void(const Exec&)>& launches);
-  bool recorded() const { return graph_ != nullptr; }
+  bool recorded() const { return graph_ != nullptr || host_launches_ != nullptr; }
   // Runs the recorded graph on the stream (without waiting).
   void replay();
   // Waits for everything sent to the stream.
@@ -89,6 +121,7 @@ class LaunchGraph {
   void release();
   void* stream_ = nullptr;  // cudaStream_t
   void* graph_ = nullptr;   // cudaGraphExec_t
+  std::function<void(const Exec&)> host_launches_;  // the debug device's "graph"
 };
 
 // An array in device memory, filled from and read back into host arrays (ordinary or managed memory).

@@ -46,6 +46,7 @@ struct CellKey {
 
 template <int D>
 void DeviceCellList<D>::build(const Vec<D>* x, Index n, Real radius, const Periodicity<D>& period) {
+  if (device_emulated()) return build_on_debug_device(x, n, radius, period);
   if (cuda_devices() == 0) throw std::runtime_error("DeviceCellList: no CUDA device is visible");
   x_ = x;
   radius_ = radius;
@@ -98,6 +99,7 @@ void DeviceCellList<D>::build(const Vec<D>* x, Index n, Real radius, const Perio
 
 template <int D>
 DeviceNeighbourList device_neighbour_list(const DeviceCellList<D>& cells, Index n, const int* group) {
+  if (device_emulated()) return debug_device_neighbour_list(cells, n, group);
   const Exec gpu{Device::cuda};
   DeviceNeighbourList list;
   list.offset = DeviceArray<Index>(static_cast<std::size_t>(n) + 1);

@@ -3,7 +3,8 @@
 // (CUB radix sort by cell key, cell ranges by binary search, counts and fills by the host's functors).
 // The grid, the stable order by cell and the list are those of CellList and neighbour_list
 // (core/neighbour_search.hpp), so both devices see the same neighbours in the same order.
-// Without the CUDA backend, or without a device, build() throws std::runtime_error.
+// Without the CUDA backend, or without a device, build() throws std::runtime_error. On the debug device
+// (core/device_emulation.hpp) the host's CellList and neighbour_list build them, copied to its memory.
 #include "core/device_memory.hpp"
 #include "core/neighbour_search.hpp"
 
@@ -21,6 +22,8 @@ class DeviceCellList {
   const DeviceArray<Index>& order() const { return sorted_; }  // particle indices ordered by cell
 
  private:
+  void build_on_debug_device(const Vec<D>* x, Index n, Real radius, const Periodicity<D>& period);
+
   CellGrid<D> grid_;
   Periodicity<D> period_;
   const Vec<D>* x_ = nullptr;
@@ -37,5 +40,7 @@ struct DeviceNeighbourList {
 
 template <int D>
 DeviceNeighbourList device_neighbour_list(const DeviceCellList<D>& cells, Index n, const int* group = nullptr);
+template <int D>
+DeviceNeighbourList debug_device_neighbour_list(const DeviceCellList<D>& cells, Index n, const int* group);
 
 }  // namespace isph

@@ -1,4 +1,4 @@
-// The device neighbour search in a build without CUDA: building says so.
+// The device neighbour search in a build without CUDA: the debug device's, else building says so.
 #include <stdexcept>
 
 #include "core/device_neighbour_search.hpp"
@@ -7,13 +7,15 @@
 namespace isph {
 
 template <int D>
-void DeviceCellList<D>::build(const Vec<D>*, Index, Real, const Periodicity<D>&) {
-  throw std::runtime_error("DeviceCellList: this build has no CUDA backend");
+void DeviceCellList<D>::build(const Vec<D>* x, Index n, Real radius, const Periodicity<D>& period) {
+  if (!device_emulated()) throw std::runtime_error("DeviceCellList: this build has no CUDA backend");
+  build_on_debug_device(x, n, radius, period);
 }
 
 template <int D>
-DeviceNeighbourList device_neighbour_list(const DeviceCellList<D>&, Index, const int*) {
-  throw std::runtime_error("device_neighbour_list: this build has no CUDA backend");
+DeviceNeighbourList device_neighbour_list(const DeviceCellList<D>& cells, Index n, const int* group) {
+  if (!device_emulated()) throw std::runtime_error("device_neighbour_list: this build has no CUDA backend");
+  return debug_device_neighbour_list(cells, n, group);
 }
 
 template class DeviceCellList<2>;

@@ -193,17 +193,21 @@ struct NeighbourList {
   Index pairs() const { return static_cast<Index>(index.size()); }
 };
 
-// The CSR list of all pairs of a built cell list (and in the same group, if given).
+// The CSR list of all pairs of a built cell list (and in the same group, if given), on the host.
 template <int D>
-NeighbourList neighbour_list(const CellList<D>& cells, Index n, const int* group = nullptr) {
+NeighbourList neighbour_list(const CellListView<D>& cells, Index n) {
   NeighbourList list;
   list.offset.assign(static_cast<std::size_t>(n) + 1, 0);
   const Exec host{};
-  parallel_for(host, n, CountNeighbours<D>{cells.view(group), list.offset.data() + 1});
+  parallel_for(host, n, CountNeighbours<D>{cells, list.offset.data() + 1});
   inclusive_scan(host, list.offset.data() + 1, n);
   list.index.resize(static_cast<std::size_t>(list.offset[n]));
-  parallel_for(host, n, FillNeighbours<D>{cells.view(group), list.offset.data(), list.index.data()});
+  parallel_for(host, n, FillNeighbours<D>{cells, list.offset.data(), list.index.data()});
   return list;
+}
+template <int D>
+NeighbourList neighbour_list(const CellList<D>& cells, Index n, const int* group = nullptr) {
+  return neighbour_list(cells.view(group), n);
 }
 
 // Builds the CSR list of all pairs closer than `radius` (and in the same group, if given; minimum

@@ -39,7 +39,7 @@ struct AddBlockSums {
 template <class F>
 Index launch_block_sums(const Exec& exec, Index n, const F& value, StateVector<double>& partial) {
   const Index blocks = (n + kSumBlock - 1) / kSumBlock;
-  partial.resize(blocks);
+  resize_for_overwrite(partial, blocks);
   parallel_for(exec, blocks, BlockSum<F>{value, n, partial.data()});
   return blocks;
 }

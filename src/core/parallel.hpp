@@ -4,13 +4,16 @@
 // that reads neighbours and writes only particle i. parallel_for runs it with OpenMP on the host,
 // or as a CUDA kernel when the calling translation unit is compiled by nvcc and the device is cuda.
 // Beside it, the collective primitives the time step and the AMG set-up need: a reduction, a prefix
-// sum and a stable sort by key.
+// sum and a stable sort by key. On the debug device (core/device_emulation.hpp) the cuda device's
+// launches run on the host, with its memory open to them.
 #include <algorithm>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <vector>
 
+#include "core/device_emulation.hpp"
 #include "core/types.hpp"
 
 #if defined(__CUDACC__)
@@ -26,7 +29,7 @@ namespace isph {
 
 enum class Device { cpu, cuda };
 
-inline const char* device_name(Device d) { return d == Device::cpu ? "cpu" : "cuda"; }
+inline const char* device_name(Device d) { return d == Device::cpu ? "cpu" : device_emulated() ? "debug" : "cuda"; }
 
 struct Exec {
   Device device = Device::cpu;
@@ -62,9 +65,23 @@ void cuda_parallel_for(const Exec& exec, Index n, const F& f) {
 
 inline constexpr Index kMinParallelLoop = 2048;
 
+// Whether exec's launches go to a GPU (the cuda device, with the debug device off).
+inline bool on_gpu(const Exec& exec) { return exec.device == Device::cuda && !device_emulated(); }
+
+// A launch run by the host: on the debug device, its memory is open for the launch's length.
+class HostLaunch {
+ public:
+  explicit HostLaunch(const Exec& exec) {
+    if (exec.device == Device::cuda) open_.emplace();
+  }
+
+ private:
+  std::optional<EmulatedLaunch> open_;
+};
+
 template <class F>
 void parallel_for(const Exec& exec, Index n, const F& f) {
-  if (exec.device == Device::cuda) {
+  if (on_gpu(exec)) {
 #if defined(__CUDACC__)
     cuda_parallel_for(exec, n, f);
     return;
@@ -72,6 +89,7 @@ void parallel_for(const Exec& exec, Index n, const F& f) {
     not_compiled_for_cuda("parallel_for");
 #endif
   }
+  const HostLaunch launch(exec);
   // Small loops run on one thread: a parallel region costs more than it saves there, and far more
   // when the cores are oversubscribed (every barrier then waits for a time slice).
 #pragma omp parallel for schedule(static) if (n >= kMinParallelLoop)
@@ -113,7 +131,7 @@ struct CopyElements {
 // combine over i in [0, n) of value(i), starting from identity (value: a functor Index -> T).
 template <class T, class F, class Combine>
 T parallel_reduce(const Exec& exec, Index n, T identity, const F& value, const Combine& combine) {
-  if (exec.device == Device::cuda) {
+  if (on_gpu(exec)) {
 #if defined(__CUDACC__)
     return thrust::transform_reduce(thrust::device, thrust::counting_iterator<Index>(0),
                                     thrust::counting_iterator<Index>(n), value, identity, combine);
@@ -121,6 +139,7 @@ T parallel_reduce(const Exec& exec, Index n, T identity, const F& value, const C
     not_compiled_for_cuda("parallel_reduce");
 #endif
   }
+  const HostLaunch launch(exec);
   T result = identity;
 #pragma omp parallel if (n >= kMinParallelLoop)
   {
@@ -135,7 +154,7 @@ T parallel_reduce(const Exec& exec, Index n, T identity, const F& value, const C
 
 // v[i] = v[0] + ... + v[i] for i in [0, n): turns counts into the ends of CSR rows.
 inline void inclusive_scan(const Exec& exec, Index* v, Index n) {
-  if (exec.device == Device::cuda) {
+  if (on_gpu(exec)) {
 #if defined(__CUDACC__)
     thrust::inclusive_scan(thrust::device, v, v + n, v);
     return;
@@ -143,6 +162,7 @@ inline void inclusive_scan(const Exec& exec, Index* v, Index n) {
     not_compiled_for_cuda("inclusive_scan");
 #endif
   }
+  const HostLaunch launch(exec);
   for (Index i = 1; i < n; ++i) v[i] += v[i - 1];
 }
 
@@ -168,7 +188,7 @@ struct KeyStarts {
 // Reorders values by their keys, which lie in [0, key_bound), keeping the order of equal keys; the keys
 // end up sorted too. A counting sort on the host, thrust's stable sort on the device.
 inline void stable_sort_by_key(const Exec& exec, Index* keys, Index* values, Index n, Index key_bound) {
-  if (exec.device == Device::cuda) {
+  if (on_gpu(exec)) {
 #if defined(__CUDACC__)
     thrust::stable_sort_by_key(thrust::device, keys, keys + n, values);
     return;
@@ -176,6 +196,7 @@ inline void stable_sort_by_key(const Exec& exec, Index* keys, Index* values, Ind
     not_compiled_for_cuda("stable_sort_by_key");
 #endif
   }
+  const HostLaunch launch(exec);
   std::vector<Index> next(static_cast<std::size_t>(key_bound) + 1, 0), sorted_keys(n), sorted_values(n);
   for (Index i = 0; i < n; ++i) ++next[keys[i] + 1];
   for (Index k = 0; k < key_bound; ++k) next[k + 1] += next[k];  // next[k]: where key k's first entry goes

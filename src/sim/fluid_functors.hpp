@@ -358,14 +358,14 @@ struct FollowStructureAcceleration {
   }
 };
 
-// Moving walls over [t, t + dt], from the pose of each motion at t and at t + dt (pose[2m], pose[2m + 1]):
+// Moving walls over [t, t + dt], from the pose of each motion at t and at t + dt (now[m], next[m]):
 // from x(t) they move by their chord of the step, with the velocity (x(t + dt) - x(t))/dt (what the
 // fluid sees of a structure too, sim/coupling.hpp), the acceleration (v(t + dt) - v(t))/dt, and their
 // normals turned to t + dt.
 template <int D>
 struct PrescribeWalls {
   const Index* motion;
-  const RigidPose<D>* pose;
+  PoseTable<D> now, next;
   const Vec<D>* reference_x;
   const Vec<D>* reference_normal;
   Real dt;
@@ -377,14 +377,14 @@ struct PrescribeWalls {
   Vec<D>* wall_normal;
   ISPH_HD void operator()(Index a) const {
     if (motion[a] < 0) return;
-    const RigidPose<D>& now = pose[2 * motion[a]];
-    const RigidPose<D>& next = pose[2 * motion[a] + 1];
+    const RigidPose<D>& from = now[motion[a]];
+    const RigidPose<D>& to = next[motion[a]];
     const Vec<D>& X = reference_x[a];
-    const Vec<D> start = now.position(X);
+    const Vec<D> start = from.position(X);
     x[a] = period.wrap(start);
-    u[a] = wall_velocity[a] = (1.0 / dt) * (next.position(X) - start);
-    wall_acceleration[a] = (1.0 / dt) * (next.velocity(X) - now.velocity(X));
-    wall_normal[a] = next.R * reference_normal[a];
+    u[a] = wall_velocity[a] = (1.0 / dt) * (to.position(X) - start);
+    wall_acceleration[a] = (1.0 / dt) * (to.velocity(X) - from.velocity(X));
+    wall_normal[a] = to.R * reference_normal[a];
   }
 };
 

@@ -59,7 +59,6 @@ FluidParticles<D>::FluidParticles(FluidSetup<D>& s)
   p_ = state_array(Real{0});
   for (auto* v : {&inside_, &permute_scratch_}) *v = StateVector<unsigned char>(state_allocator<unsigned char>());
   for (auto* v : {&body_distance_, &body_depth_, &power_density_, &block_sums_}) *v = StateVector<Real>(state_allocator<Real>());
-  wall_poses_ = StateVector<RigidPose<D>>(state_allocator<RigidPose<D>>());
   has_structure_ = std::count(s.kind.begin(), s.kind.end(), FluidKind::structure) > 0;
   fluid_count_ = static_cast<Index>(std::count(s.kind.begin(), s.kind.end(), FluidKind::fluid));
   wall_count_ = static_cast<Index>(std::count(s.kind.begin(), s.kind.end(), FluidKind::wall));
@@ -170,12 +169,7 @@ void FluidParticles<D>::restore(const SnapshotData& snapshot) {
 
 template <int D>
 void FluidParticles<D>::prescribe_walls(Real dt) {
-  wall_poses_.resize(2 * motions_.size());
-  for (std::size_t m = 0; m < motions_.size(); ++m) {
-    wall_poses_[2 * m] = motions_[m].pose(time_);
-    wall_poses_[2 * m + 1] = motions_[m].pose(time_ + dt);
-  }
-  parallel_for(exec_, size(), PrescribeWalls<D>{motion_.data(), wall_poses_.data(), reference_x_.data(),
+  parallel_for(exec_, size(), PrescribeWalls<D>{motion_.data(), poses_at(motions_, time_), poses_at(motions_, time_ + dt), reference_x_.data(),
                                                 reference_normal_.data(), dt, period_, x_.data(), u_.data(),
                                                 wall_velocity_.data(), wall_acceleration_.data(), wall_normal_.data()});
 }
@@ -187,8 +181,8 @@ void FluidParticles<D>::gather_walls(StateVector<Vec<D>>& point, StateVector<Rea
     wall_slot_ = StateVector<Index>(static_cast<std::size_t>(n) + 1, 0, state_allocator<Index>());
   parallel_for(exec_, n, MarkWalls{kind_.data(), wall_slot_.data()});
   inclusive_scan(exec_, wall_slot_.data() + 1, n);
-  point.resize(wall_slot_[n]);  // the number of walls: one value back from the device
-  radius.resize(wall_slot_[n]);
+  resize_for_overwrite(point, wall_slot_[n]);  // the number of walls: one value back from the device
+  resize_for_overwrite(radius, wall_slot_[n]);
   parallel_for(exec_, n, GatherWalls<D>{kind_.data(), x_.data(), volume_.data(), wall_slot_.data(), point.data(), radius.data()});
 }
 

@@ -191,7 +191,7 @@ class FluidParticles {
   // follows a re-sort or a removal, gathered by the launcher through a scratch buffer.
   template <class T>
   void permute(StateVector<T>& v, const Index* order, Index count) {
-    permute_scratch_.resize(std::max(permute_scratch_.size(), count * sizeof(T)));
+    resize_for_overwrite(permute_scratch_, std::max(permute_scratch_.size(), count * sizeof(T)));
     T* gathered = reinterpret_cast<T*>(permute_scratch_.data());
     parallel_for(exec_, count, GatherElements<T>{v.data(), order, gathered});
     v.resize(count);
@@ -245,7 +245,6 @@ class FluidParticles {
   StateVector<Real> power_density_;  // per-particle work array of record_viscous_wall_power
   mutable StateVector<Real> block_sums_;  // ordered_sum's scratch
   std::vector<RigidMotion<D>> motions_;
-  StateVector<RigidPose<D>> wall_poses_;  // each motion's pose at t and t + dt (prescribe_walls)
   Real density_, viscosity_, dx_, reference_velocity_;
   SmoothingKernel<D> kernel_;
   Periodicity<D> period_;

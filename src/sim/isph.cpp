@@ -84,8 +84,8 @@ void IsphSolver<D>::compress_matrix() {
   parallel_for(exec_, n + 1, CountRowEntries{full.row_offset.data(), full.col.data(), full.val.data(),
                                              matrix_.row_offset.data()});
   inclusive_scan(exec_, matrix_.row_offset.data(), n + 1);
-  matrix_.col.resize(matrix_.row_offset[n]);
-  matrix_.val.resize(matrix_.row_offset[n]);
+  resize_for_overwrite(matrix_.col, matrix_.row_offset[n]);
+  resize_for_overwrite(matrix_.val, matrix_.row_offset[n]);
   parallel_for(exec_, n, CompactRow{full.row_offset.data(), full.col.data(), full.val.data(),
                                     matrix_.row_offset.data(), matrix_.col.data(), matrix_.val.data()});
 }
@@ -163,8 +163,8 @@ void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
     full_matrix_.rows = n;
     full_matrix_.row_offset.resize(n + 1);
     parallel_for(exec_, n + 1, PpeRowOffsets{this->neighbour_offset(), full_matrix_.row_offset.data()});
-    full_matrix_.col.resize(full_matrix_.row_offset[n]);
-    full_matrix_.val.resize(full_matrix_.row_offset[n]);
+    resize_for_overwrite(full_matrix_.col, full_matrix_.row_offset[n]);
+    resize_for_overwrite(full_matrix_.val, full_matrix_.row_offset[n]);
     parallel_for(exec_, n, PpeRowFill<D>{pv, L_.data(), alpha_.data(), div_u_star_.data(), density_, dt, gravity_,
                                          cls_.data(), surface_normal_.data(), extrapolate_surface_, pinned,
                                          full_matrix_.col.data(), full_matrix_.val.data(), rhs_.data(),

@@ -1,6 +1,8 @@
 #pragma once
 // Prescribed rigid motion of walls and of structure clamps (io/case.hpp MotionSpec): the moving tank
 // of a sloshing case, the lifted gate of a dam break, the sliding plate of Couette flow.
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "core/types.hpp"
@@ -49,6 +51,16 @@ struct RigidPose {
   }
 };
 
+// The poses of a scene's motions at one time, handed to a launch by value (in the kernel's arguments),
+// so that the host writes no array of poses in device memory before every launch. A scene has at most
+// kMaxMotions moving bodies among its walls, and as many among its clamped structures.
+inline constexpr int kMaxMotions = 16;
+template <int D>
+struct PoseTable {
+  RigidPose<D> pose[kMaxMotions];
+  ISPH_HD const RigidPose<D>& operator[](Index m) const { return pose[m]; }
+};
+
 // x(X, t) of a motion and its velocity: X moves by s(t) - s(0) (a rotation in 2D: turns about `pivot`
 // by that many degrees), so that X is the position at t = 0.
 template <int D>
@@ -67,5 +79,15 @@ class RigidMotion {
   MotionProfile profile_;
   Real s0_ = 0;  // s(0)
 };
+
+// Each motion's pose at time t.
+template <int D>
+PoseTable<D> poses_at(const std::vector<RigidMotion<D>>& motions, Real t) {
+  if (motions.size() > static_cast<std::size_t>(kMaxMotions))
+    throw std::invalid_argument("at most " + std::to_string(kMaxMotions) + " moving bodies are supported");
+  PoseTable<D> table;
+  for (std::size_t m = 0; m < motions.size(); ++m) table.pose[m] = motions[m].pose(t);
+  return table;
+}
 
 }  // namespace isph

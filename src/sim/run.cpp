@@ -155,6 +155,14 @@ class RunFrame {
         .set("status", result.status)
         .set("message", result.message);
     if (restarted_) summary.set("restart", restart_);
+    if (device_emulated()) {  // --device debug: the host's touches of device memory, per phase
+      JsonObject touches, debug;
+      for (const auto& [k, v] : timer.host_touches()) touches.set(k, v);
+      debug.set("launches", emulated_launches())
+          .set("host_page_touches", touches)
+          .set("host_page_touches_total", emulated_host_touches());
+      summary.set("debug_device", debug);
+    }
     write_file_atomically(result.out_dir + "/summary.json", summary.dump() + "\n");
     if (opt_.progress)
       std::fprintf(stderr, "[%s] %s: %s; %lld steps in %.2f s wall; output in %s\n", spec_.name.c_str(),

@@ -308,6 +308,9 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const
     problems.push_back(file + ": bodies: stages.fluid is on but no fluid body has particles");
     return;
   }
+  if (f.motions.size() > static_cast<std::size_t>(kMaxMotions))
+    problems.push_back(file + ": bodies: " + std::to_string(f.motions.size()) + " moving wall bodies; at most " +
+                       std::to_string(kMaxMotions) + " are supported");
 
   // Particles on periodic axes must lie inside the period.
   for (int d = 0; d < D; ++d) {
@@ -499,6 +502,9 @@ Scene<D> build_scene(const CaseSpec& spec) {
   scene.has_fluid = spec.stages.fluid;
   if (spec.stages.structure && n == 0 && problems.empty())
     problems.push_back(file + ": bodies: the case has no structure particles (set stages.structure = false)");
+  if (s.motions.size() > static_cast<std::size_t>(kMaxMotions))
+    problems.push_back(file + ": bodies: " + std::to_string(s.motions.size()) + " structures with moving clamps; at most " +
+                       std::to_string(kMaxMotions) + " are supported");
   if (scene.has_fluid) finish_fluid<D>(spec, scene, fluid, s.fixed, problems);
 
   // Loads: per-particle acceleration at full load.

@@ -16,14 +16,8 @@ namespace {
 
 // Runs `case_file` with `sets` on both devices and compares probes.csv column by column.
 void expect_same_history_on_both_devices(const std::string& name, const std::string& case_file, const std::string& sets) {
-  fs::path out[2];
-  const char* devices[2] = {"cpu", "cuda"};
-  for (int k = 0; k < 2; ++k) {
-    out[k] = fresh_dir(name + "_" + devices[k]);
-    const auto r = regression::isph("run " + kCases + case_file + " --quiet --out " + out[k].string() + " --device " + devices[k] +
-                        " --set output.snapshots=false" + sets);
-    ASSERT_EQ(r.status, 0) << devices[k] << ": " << r.output;
-  }
+  const fs::path out[2] = {run_on_device("cpu", name, case_file, sets), run_on_device("cuda", name, case_file, sets)};
+  if (::testing::Test::HasFailure()) return;
   for (const char* file : {"probes.csv", "energy.csv"}) {
     const auto host = read_csv(out[0] / file), device = read_csv(out[1] / file);
     ASSERT_EQ(host.size(), device.size()) << file;

@@ -72,6 +72,17 @@ inline fs::path fresh_dir(const std::string& name) {
   return p;
 }
 
+// Runs a bundled case on `device` (cpu, cuda or debug) into a fresh folder, without
+// snapshots, and returns the folder; the run must complete.
+inline fs::path run_on_device(const std::string& device, const std::string& name, const std::string& case_file,
+                              const std::string& sets) {
+  const fs::path out = fresh_dir(name + "_" + device);
+  const auto r = isph("run " + kCases + case_file + " --quiet --out " + out.string() + " --device " + device +
+                      " --set output.snapshots=false" + sets);
+  EXPECT_EQ(r.status, 0) << device << ": " << r.output;
+  return out;
+}
+
 // A CSV with a header, as columns by name.
 inline std::map<std::string, std::vector<double>> read_csv(const fs::path& file) {
   std::ifstream in(file);
