@@ -350,6 +350,11 @@ void TlsphSolver<D>::prescribe_clamps(const Exec& exec, Real t) {
 }
 
 template <int D>
+Index TlsphSolver<D>::first_runaway(Real limit) const {
+  return first_particle(waiting_exec(), n_, RunawayParticle<D>{x_.data(), X_.data(), v_.data(), limit * limit});
+}
+
+template <int D>
 Real TlsphSolver<D>::clamp_power() const {
   return ordered_sum(waiting_exec(), n_, clamp_power_term(), block_sums_);
 }

@@ -387,6 +387,20 @@ struct StartRungeKutta {
   }
 };
 
+// Structure particles with a non-finite position or velocity, or moved farther than sqrt(limit2) from
+// their reference place: a structure that has blown up (TlsphSolver::first_runaway).
+template <int D>
+struct RunawayParticle {
+  const Vec<D>* x;
+  const Vec<D>* X;
+  const Vec<D>* v;
+  Real limit2;
+  ISPH_HD bool operator()(Index a) const {
+    const Real u2 = norm2(x[a] - X[a]);
+    return !finite_value(u2) || !finite_value(norm2(v[a])) || u2 > limit2;
+  }
+};
+
 // Moving clamps at time t: x = x(X, t) and v = v(X, t) of particle a's motion (pose[m], RigidPose).
 template <int D>
 struct PrescribeClamps {

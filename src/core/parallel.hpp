@@ -152,6 +152,19 @@ T parallel_reduce(const Exec& exec, Index n, T identity, const F& value, const C
   return result;
 }
 
+// The first particle (lowest index) that `select` accepts, or -1.
+template <class Select>
+struct IndexIfSelected {
+  Select select;
+  Index none;
+  ISPH_HD Index operator()(Index a) const { return select(a) ? a : none; }
+};
+template <class Select>
+Index first_particle(const Exec& exec, Index n, Select select) {
+  const Index first = parallel_reduce(exec, n, n, IndexIfSelected<Select>{select, n}, MinOf{});
+  return first < n ? first : -1;
+}
+
 // v[i] = v[0] + ... + v[i] for i in [0, n): turns counts into the ends of CSR rows.
 inline void inclusive_scan(const Exec& exec, Index* v, Index n) {
   if (on_gpu(exec)) {

@@ -250,19 +250,6 @@ Index lowest_id_particle(const Exec& exec, Index n, Select select, const Index* 
   return key == kNoIdKey ? -1 : static_cast<Index>(key & 0xffffffffLL);
 }
 
-// The first particle (lowest index) that `select` accepts, or -1.
-template <class Select>
-struct IndexIfSelected {
-  Select select;
-  Index none;
-  ISPH_HD Index operator()(Index a) const { return select(a) ? a : none; }
-};
-template <class Select>
-Index first_particle(const Exec& exec, Index n, Select select) {
-  const Index first = parallel_reduce(exec, n, n, IndexIfSelected<Select>{select, n}, MinOf{});
-  return first < n ? first : -1;
-}
-
 // Particles with a non-finite position, velocity or pressure.
 template <int D>
 struct NonFiniteState {

@@ -226,16 +226,6 @@ void write_structure_snapshot(SnapshotWriter& writer, double t, TlsphSolver<D>& 
   writer.write(t, pos, {disp, vel, ref, sxx, syy, sxy, id, body, fixed});
 }
 
-// First non-finite or runaway particle, or -1.
-template <int D>
-Index find_divergence(const TlsphSolver<D>& solver, Real limit) {
-  for (Index a = 0; a < solver.size(); ++a) {
-    const Real u2 = norm2(solver.position()[a] - solver.reference()[a]);
-    if (!std::isfinite(u2) || !std::isfinite(norm2(solver.velocity()[a])) || u2 > limit * limit) return a;
-  }
-  return -1;
-}
-
 // Probe columns and values of the displacement probes: u at the probe point by the particle's own
 // deformation gradient, u_a + (F_a - I)(point - X_a) (after update_stress()).
 template <int D>
@@ -310,7 +300,7 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& s
     const Real t1 = (step + 1) * dt;
     if (loaded) boundary_work += 0.5 * dt * (p0 + solver.external_power(t1));
     if ((step + 1) % 16 == 0 || step + 1 == steps) {
-      const Index bad = find_divergence(solver, 10 * scene.body_extent);
+      const Index bad = solver.first_runaway(10 * scene.body_extent);
       if (bad >= 0) {
         frame.diverge(structure_divergence_message(scene, bad, t1, step + 1));
         ++step;
@@ -510,7 +500,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
     max_iterations = std::max<long long>(max_iterations, report.ppe_max_iterations);
     char buf[512];
     // A structure that ran away inside the step's substeps poisons the PPE's right-hand side: name it first.
-    const Index bad_s = coupling ? find_divergence(coupling->solver(), 10 * scene.body_extent) : -1;
+    const Index bad_s = coupling ? coupling->solver().first_runaway(10 * scene.body_extent) : -1;
     if (bad_s >= 0) {
       frame.diverge(structure_divergence_message(scene, bad_s, t, step));
     } else if (report.ppe_failed) {
