@@ -222,7 +222,7 @@ Real TlsphSolver<D>::advance(Real t, Real dt, int count, InteractionRamp<D> ramp
   const bool with_power = !interaction_.empty();
   // The power at the start (slot 2k) and the end (2k + 1) of step k. Under a held field a step starts
   // with the power its predecessor ended with, so only the first start is evaluated.
-  power_record_.resize(2 * static_cast<std::size_t>(count));
+  resize_for_overwrite(power_record_, 2 * static_cast<std::size_t>(count));
   Real* const clamp_slots = integrator_ == StructureIntegrator::rk4 ? clamp_record(count) : nullptr;
   const auto record_power = [&](int slot) {
     if (with_power)

@@ -153,10 +153,10 @@ class TlsphSolver {
   // Work done on the structure by its moving clamps since the start, integrated over the steps
   // (clamp_power); 0 while the clamps stand still. A restart sets it from the snapshot.
   Real clamp_work() const { return clamp_work_; }
+  void set_clamp_work(Real work) { clamp_work_ = work; }
   // The first particle with a non-finite position or velocity, or moved farther than `limit` from its
   // reference place; -1 when none (a reduction on the solver's device).
   Index first_runaway(Real limit) const;
-  void set_clamp_work(Real work) { clamp_work_ = work; }
   TlsphView<D> view();                        // host view of the current state
   ObstacleView<D> obstacles() const { return {contact_offset_.data(), contact_point_.data(), contact_radius_.data()}; }
 

@@ -129,27 +129,34 @@ template <class T>
 class DeviceArray {
  public:
   DeviceArray() = default;
-  explicit DeviceArray(std::size_t n) : n_(n) { p_ = static_cast<T*>(device_allocate(n_ * sizeof(T))); }
+  explicit DeviceArray(std::size_t n) : n_(n), capacity_(n) { p_ = static_cast<T*>(device_allocate(n_ * sizeof(T))); }
   explicit DeviceArray(const std::vector<T>& host) : DeviceArray(host.size()) { upload(host); }
   DeviceArray(const DeviceArray&) = delete;
   DeviceArray& operator=(const DeviceArray&) = delete;
-  DeviceArray(DeviceArray&& o) noexcept : p_(o.p_), n_(o.n_) { o.p_ = nullptr, o.n_ = 0; }
+  DeviceArray(DeviceArray&& o) noexcept : p_(o.p_), n_(o.n_), capacity_(o.capacity_) {
+    o.p_ = nullptr, o.n_ = o.capacity_ = 0;
+  }
   DeviceArray& operator=(DeviceArray&& o) noexcept {
-    std::swap(p_, o.p_), std::swap(n_, o.n_);
+    std::swap(p_, o.p_), std::swap(n_, o.n_), std::swap(capacity_, o.capacity_);
     return *this;
   }
   ~DeviceArray() { device_free(p_); }
   T* data() { return p_; }
   const T* data() const { return p_; }
   std::size_t size() const { return n_; }
-  // Makes the array host's copy, reallocating only when the size changes.
+  // Makes the array host's copy. It is reallocated only when host outgrows the allocation, with a
+  // quarter more room: a copy of the PPE, whose size changes every step, then seldom allocates (and a
+  // cudaFree waits for the whole device).
   void assign(std::span<const T> host) {
-    if (host.size() != n_) *this = DeviceArray(host.size());
+    if (host.size() > capacity_) *this = DeviceArray(host.size() + host.size() / 4);
+    n_ = host.size();
     upload(host);
   }
   // At least n elements (a scratch buffer: grows, never shrinks; the contents are not kept).
   void grow_to(std::size_t n) {
-    if (n_ < n) *this = DeviceArray(n);
+    if (n_ >= n) return;
+    if (capacity_ < n) *this = DeviceArray(n);
+    n_ = n;
   }
   // Copies host into the array; the sizes must agree.
   void upload(std::span<const T> host) {
@@ -174,7 +181,7 @@ class DeviceArray {
 
  private:
   T* p_ = nullptr;
-  std::size_t n_ = 0;
+  std::size_t n_ = 0, capacity_ = 0;  // elements in use, and allocated
 };
 
 }  // namespace isph

@@ -1,12 +1,14 @@
 // The debug device's memory (core/device_emulation.hpp): new memory reads as 0xFF bytes, the host's
 // touches between launches are counted once per page until the next launch closes the pages again,
-// and a launch's own accesses are not counted. Each check runs in a child process (EXPECT_EXIT), since
+// and a launch's own accesses are not counted; and a DeviceArray, there as on a GPU, keeps its
+// allocation while what it is given fits. Each check runs in a child process (EXPECT_EXIT), since
 // the debug device, once on, stays on.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cstdlib>
 #include <cstring>
+#include <vector>
 
 #include "core/device_memory.hpp"
 #include "core/parallel.hpp"
@@ -49,7 +51,33 @@ struct Fill {
   std::_Exit(0);
 }
 
+// Exits 0 when a DeviceArray refilled with fewer or a few more elements keeps its allocation (the PPE's
+// copy, whose size changes every step), holds what it was given, and reallocates only past its room.
+[[noreturn]] void check_array_reuse() {
+  enable_device_emulation();
+  const auto filled = [](std::size_t n) {
+    std::vector<int> v(n);
+    for (std::size_t i = 0; i < n; ++i) v[i] = static_cast<int>(3 * i + n);
+    return v;
+  };
+  DeviceArray<int> a;
+  a.assign(filled(1000));
+  const int* first = a.data();
+  for (std::size_t n : {500, 1200, 1000}) {
+    a.assign(filled(n));
+    if (a.data() != first) std::_Exit(2);
+    if (a.size() != n || a.to_host() != filled(n)) std::_Exit(3);
+  }
+  a.assign(filled(1300));  // beyond 1000 + 1000/4
+  if (a.size() != 1300 || a.to_host() != filled(1300)) std::_Exit(4);
+  std::_Exit(0);
+}
+
 }  // namespace
+
+TEST(DebugDeviceMemory, DeviceArrayKeepsItsAllocationWhileTheDataFits) {
+  EXPECT_EXIT(check_array_reuse(), ::testing::ExitedWithCode(0), "");
+}
 
 TEST(DebugDeviceMemory, CountsTheHostsTouchesBetweenLaunchesOncePerPage) {
   EXPECT_EXIT(check_touch_counts(), ::testing::ExitedWithCode(0), "");
