@@ -2,7 +2,7 @@
 // Corrected discrete SPH operators (seed 001 Eqs. 2-7) as particle-loop functors.
 //
 // Notation, for particle a and each neighbour b of its CSR list:
-//   r_ab = r_a - r_b,  rho_ab = |r_ab|,  e_ab = r_ab / rho_ab,  g_ab = V_b grad_a W_ab,
+//   r_ab = r_a - r_b,  rho_ab = |r_ab|,  e_ab = r_ab / rho_ab,  g_ab = V_b grad_a W(r_ab, h_ab),
 //   L_a  = M_a^{-T},   M_a = sum_b (r_b - r_a) ⊗ g_ab          (gradient_correction.hpp)
 // L_a is the Bonet-Lok correction; seed Eq. 5 writes the same operator as B_a with the transpose
 // convention (B_a · grad W  ==  L_a grad W).
@@ -41,12 +41,40 @@
 //
 // All functors read neighbours and write only particle i; they are device-safe (ISPH_HD, fixed-size
 // arrays, no std:: containers). Pairs at zero distance (coincident particles) are skipped.
+#include "core/neighbour_search.hpp"
 #include "core/periodic.hpp"
 #include "core/types.hpp"
 #include "kernels/gradient_correction.hpp"
 #include "kernels/smoothing_kernel.hpp"
 
 namespace isph {
+
+// The smoothing kernels of a particle set with more than one resolution (a structure finer than the
+// water around it): one kernel per particle spacing, sorted by h, and each particle's level, its index
+// in the table. A pair is seen with the kernel of its coarser particle, h_ab = max(h_a, h_b): the
+// fluid's smoothing length for fluid-structure pairs, as in the multi-resolution FSI of Zhang, Rezavand &
+// Hu (2021, J. Comput. Phys. 429:110028). The rule is symmetric in a and b, so that pair forces stay equal
+// and opposite (seed 001 Eq. 46), and a fluid particle's support is the fluid's whatever the resolution
+// of its neighbours (docs/VALIDATION.md section 23). One level: every pair has the one kernel. The
+// neighbour search keeps the pairs within the support of their own kernel (core/neighbour_search.hpp
+// LevelReach, reach()).
+template <int D>
+struct KernelTable {
+  SmoothingKernel<D> kernel[kMaxLevels];
+  int levels = 1;
+  KernelTable() = default;
+  KernelTable(const SmoothingKernel<D>& only) { kernel[0] = only; }  // one resolution
+  ISPH_HD const SmoothingKernel<D>& pair(int la, int lb) const { return kernel[la > lb ? la : lb]; }
+  ISPH_HD Real largest_support() const { return kernel[levels - 1].support(); }
+  // The neighbour search's reach per level, for the levels of `level`.
+  LevelReach reach(const unsigned char* level) const {
+    LevelReach r;
+    if (levels == 1) return r;
+    r.level = level;
+    for (int l = 0; l < levels; ++l) r.reach2[l] = kernel[l].support() * kernel[l].support();
+    return r;
+  }
+};
 
 template <int D>
 struct OperatorView {
@@ -55,10 +83,17 @@ struct OperatorView {
   const Real* volume;
   const Index* nbr_offset;  // CSR: neighbours of a are nbr[nbr_offset[a] .. nbr_offset[a+1])
   const Index* nbr;
-  SmoothingKernel<D> kernel;
+  KernelTable<D> kernels;
   Periodicity<D> period = {};  // minimum-image pair vectors on periodic axes
+  const unsigned char* level = nullptr;  // each particle's index in `kernels` (null: all on level 0)
 
   ISPH_HD Vec<D> r(Index a, Index b) const { return period.delta(x[a], x[b]); }
+  ISPH_HD int level_of(Index a) const { return level ? level[a] : 0; }
+  // The kernel of pair (a, b), and of particle a alone (its own spacing's).
+  ISPH_HD const SmoothingKernel<D>& kernel(Index a, Index b) const { return kernels.pair(level_of(a), level_of(b)); }
+  ISPH_HD const SmoothingKernel<D>& own_kernel(Index a) const { return kernels.kernel[level_of(a)]; }
+  // grad_a W(r_ab, h_ab), with r_ab = r(a, b).
+  ISPH_HD Vec<D> gradient(Index a, Index b, const Vec<D>& r_ab) const { return kernel(a, b).gradient(r_ab); }
 };
 
 // L_a = M_a^{-T} (identity when M_a is singular).
@@ -71,7 +106,7 @@ struct GradientCorrection {
     for (Index k = v.nbr_offset[a]; k < v.nbr_offset[a + 1]; ++k) {
       const Index b = v.nbr[k];
       const Vec<D> r_ab = v.r(a, b);
-      const Vec<D> g = v.volume[b] * v.kernel.gradient(r_ab);
+      const Vec<D> g = v.volume[b] * v.gradient(a, b, r_ab);
       m = m + outer((-1.0) * r_ab, g);
     }
     L[a] = correction_from_moment(m);
@@ -89,7 +124,7 @@ struct CorrectedGradient {
     Vec<D> s = Vec<D>::zero();
     for (Index k = v.nbr_offset[a]; k < v.nbr_offset[a + 1]; ++k) {
       const Index b = v.nbr[k];
-      s += (v.volume[b] * (f[b] - f[a])) * v.kernel.gradient(v.r(a, b));
+      s += (v.volume[b] * (f[b] - f[a])) * v.gradient(a, b, v.r(a, b));
     }
     grad[a] = L[a] * s;
   }
@@ -106,7 +141,7 @@ struct CorrectedDivergence {
     Mat<D> s = Mat<D>::zero();
     for (Index k = v.nbr_offset[a]; k < v.nbr_offset[a + 1]; ++k) {
       const Index b = v.nbr[k];
-      s = s + outer(u[b] - u[a], v.volume[b] * v.kernel.gradient(v.r(a, b)));
+      s = s + outer(u[b] - u[a], v.volume[b] * v.gradient(a, b, v.r(a, b)));
     }
     div[a] = ddot(L[a], s);
   }
@@ -122,7 +157,7 @@ struct PositionDivergence {
     for (Index k = v.nbr_offset[a]; k < v.nbr_offset[a + 1]; ++k) {
       const Index b = v.nbr[k];
       const Vec<D> r_ab = v.r(a, b);
-      s -= v.volume[b] * dot(r_ab, v.kernel.gradient(r_ab));
+      s -= v.volume[b] * dot(r_ab, v.gradient(a, b, r_ab));
     }
     div_r[a] = s;
   }
@@ -207,7 +242,7 @@ struct QuadraticCorrection {
   Vec<D>* pair_gradient;  // one per CSR pair: L_a g_ab on entry, c_ab on exit
   static constexpr int kQuadratic = D * (D + 1) / 2, kMonomials = D + kQuadratic;
   ISPH_HD void monomials(Index a, Index b, Real (&p)[kMonomials]) const {
-    const Vec<D> y = (-1.0 / v.kernel.h) * v.r(a, b);
+    const Vec<D> y = (-1.0 / v.own_kernel(a).h) * v.r(a, b);
     int m = 0;
     for (int i = 0; i < D; ++i) p[m++] = y[i];
     for (int i = 0; i < D; ++i)
@@ -278,7 +313,7 @@ struct LaplacianRenormalisation {
       const Real rho = sqrt(norm2(r_ab));
       if (!(rho > 0)) continue;
       const Vec<D> e = (1.0 / rho) * r_ab;
-      const Vec<D> g = v.volume[b] * v.kernel.gradient(r_ab);
+      const Vec<D> g = v.volume[b] * v.gradient(a, b, r_ab);
       for (int p = 0; p < P; ++p) {
         const Real ekl = e[pk[p]] * e[pl[p]];
         for (int i = 0; i < D; ++i) {
@@ -344,7 +379,7 @@ struct RenormalisedLaplacian {
       const Vec<D> r_ab = v.r(a, b);
       const Real rho = sqrt(norm2(r_ab));
       if (!(rho > 0)) continue;
-      const Real w = laplacian_pair_weight(bh, r_ab, rho, v.volume[b] * v.kernel.gradient(r_ab));
+      const Real w = laplacian_pair_weight(bh, r_ab, rho, v.volume[b] * v.gradient(a, b, r_ab));
       s += w * ((f[a] - f[b]) / rho - dot(r_ab, ga) / rho);
     }
     lap[a] = s;

@@ -13,7 +13,7 @@
 // Skillen et al. (2013) coefficient, Eq. 17 (with the pi the seed's copy lacks):
 //   alpha = 0 (div r <= chi),  0.5 [1 - cos(pi (div r - chi)/(chi_full - chi))] (between),  1 (above).
 // alpha = 0 makes the particle a Dirichlet p = 0 row of the PPE.
-#include "sim/fluid_view.hpp"
+#include "kernels/fluid_view.hpp"
 
 namespace isph {
 
@@ -50,7 +50,7 @@ struct SurfaceDetection {
     for (Index k = op.nbr_offset[a]; k < op.nbr_offset[a + 1]; ++k) {
       const Index b = op.nbr[k];
       const Vec<D> r_ab = op.r(a, b);
-      s -= v.surface_weight(a, b) * op.volume[b] * dot(r_ab, op.kernel.gradient(r_ab));
+      s -= v.surface_weight(a, b) * op.volume[b] * dot(r_ab, op.gradient(a, b, r_ab));
       fluid_neighbours += v.is_fluid(b) ? 1 : 0;
     }
     div_r[a] = s;
@@ -71,7 +71,7 @@ struct NearSurfaceDetection {
     cls[a] = detected[a];
     if (!v.is_fluid(a) || detected[a] != SurfaceClass::interior) return;
     const OperatorView<D>& op = v.op;
-    const Real h2 = op.kernel.h * op.kernel.h;
+    const Real h2 = op.own_kernel(a).h * op.own_kernel(a).h;
     for (Index k = op.nbr_offset[a]; k < op.nbr_offset[a + 1]; ++k) {
       const Index b = op.nbr[k];
       if (detected[b] == SurfaceClass::surface && norm2(op.r(a, b)) < h2) {

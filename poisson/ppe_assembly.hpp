@@ -95,9 +95,10 @@ struct PpeRowFill {
     Real diagonal = 0;
     if (al > 0) {  // alpha P_a, P_a = the PPE row over its diagonal
       for (Index k = begin; k < end; ++k) {
-        const Vec<D> r_ab = op.r(a, op.nbr[k]);
+        const Index b = op.nbr[k];
+        const Vec<D> r_ab = op.r(a, b);
         const Real r2 = norm2(r_ab);
-        const Real c = r2 > 0 ? -2 * op.volume[op.nbr[k]] * dot(r_ab, l * op.kernel.gradient(r_ab)) / (density * r2) : 0;
+        const Real c = r2 > 0 ? -2 * op.volume[b] * dot(r_ab, l * op.gradient(a, b, r_ab)) / (density * r2) : 0;
         diagonal += c;
         val[row + 1 + (k - begin)] = -c;
       }
@@ -117,7 +118,7 @@ struct PpeRowFill {
       val[row] += 1 - al;
       for (Index k = begin; k < end; ++k) {
         const Index b = op.nbr[k];
-        const Real c = w * op.volume[b] * dot(ln, op.kernel.gradient(op.r(a, b)));
+        const Real c = w * op.volume[b] * dot(ln, op.gradient(a, b, op.r(a, b)));
         val[row] -= c;
         val[row + 1 + (k - begin)] += c;
       }
@@ -137,7 +138,7 @@ struct PpeRowFill {
       const Index b = op.nbr[k];
       if (!v.is_fluid(b)) continue;
       const Vec<D> r_ab = op.r(a, b);
-      const Real w = op.kernel.value(sqrt(norm2(r_ab)));
+      const Real w = op.kernel(a, b).value(sqrt(norm2(r_ab)));
       weight_sum += w;
       moment += w * r_ab;
       val[row + 1 + (k - begin)] = -w;

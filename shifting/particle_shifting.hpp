@@ -25,7 +25,7 @@
 //       u_a <- u_a + G_a dr_a,   p_a <- p_a + <grad p>_a · dr_a,
 //  with G_a from the free-slip extension of the velocity into walls (FluidView::velocity_mirrored):
 //  the no-slip jump across an unresolved boundary layer is not a field a Taylor series may extend.
-#include "sim/fluid_view.hpp"
+#include "kernels/fluid_view.hpp"
 
 namespace isph {
 
@@ -47,7 +47,7 @@ struct SurfaceNormal {
     Vec<D> s = Vec<D>::zero();
     for (Index k = op.nbr_offset[a]; k < op.nbr_offset[a + 1]; ++k) {
       const Index b = op.nbr[k];
-      s += (v.surface_weight(a, b) * op.volume[b]) * op.kernel.gradient(op.r(a, b));
+      s += (v.surface_weight(a, b) * op.volume[b]) * op.gradient(a, b, op.r(a, b));
     }
     const Vec<D> grad_psi = L[a] * s;
     const Real len = sqrt(norm2(grad_psi));

@@ -15,7 +15,7 @@
 // pressure force on the wetted surface only as far as the discrete gradient telescopes across the
 // interface layer (docs/VALIDATION.md measures both).
 #include "kernels/operators.hpp"
-#include "sim/fluid_view.hpp"
+#include "kernels/fluid_view.hpp"
 
 namespace isph {
 
@@ -37,7 +37,7 @@ struct BoundaryPressureForce {
       Vec<D> s = Vec<D>::zero();
       for (Index k = op.nbr_offset[a]; k < op.nbr_offset[a + 1]; ++k) {
         const Index b = op.nbr[k];
-        if (v.is_fluid(b)) s += (op.volume[b] * (p[a] + p[b])) * op.kernel.gradient(op.r(a, b));
+        if (v.is_fluid(b)) s += (op.volume[b] * (p[a] + p[b])) * op.gradient(a, b, op.r(a, b));
       }
       force_density[a] = -1.0 * s;
       return;
@@ -120,7 +120,7 @@ struct BodyContact {
       if (v.kind[b] != body) continue;
       const Real r = sqrt(norm2(v.op.r(a, b)));
       if (r < distance[a]) distance[a] = r, nearest = b;
-      colour += v.op.volume[b] * v.op.kernel.value(r);
+      colour += v.op.volume[b] * v.op.kernel(a, b).value(r);
     }
     if (!(colour > 0.5)) return;
     const Real behind = -v.beyond_surface(a, nearest);

@@ -23,7 +23,7 @@
 #include "core/parallel.hpp"
 #include "core/types.hpp"
 #include "kernels/smoothing_kernel.hpp"
-#include "sim/prescribed_motion.hpp"
+#include "core/rigid_motion.hpp"
 #include "structure/tlsph_functors.hpp"
 
 namespace isph {

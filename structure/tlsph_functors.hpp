@@ -4,7 +4,7 @@
 // host (OpenMP) and on a CUDA device through parallel_for.
 #include "core/neighbour_search.hpp"
 #include "core/types.hpp"
-#include "sim/prescribed_motion.hpp"
+#include "core/rigid_motion.hpp"
 
 namespace isph {
 

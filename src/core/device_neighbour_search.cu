@@ -98,14 +98,15 @@ void DeviceCellList<D>::build(const Vec<D>* x, Index n, Real radius, const Perio
 }
 
 template <int D>
-DeviceNeighbourList device_neighbour_list(const DeviceCellList<D>& cells, Index n, const int* group) {
-  if (device_emulated()) return debug_device_neighbour_list(cells, n, group);
+DeviceNeighbourList device_neighbour_list(const DeviceCellList<D>& cells, Index n, const int* group,
+                                          const LevelReach& levels) {
+  if (device_emulated()) return debug_device_neighbour_list(cells, n, group, levels);
   const Exec gpu{Device::cuda};
   DeviceNeighbourList list;
   list.offset = DeviceArray<Index>(static_cast<std::size_t>(n) + 1);
   poison(list.offset);
   DeviceArray<Index> count(n);
-  parallel_for(gpu, n, CountNeighbours<D>{cells.view(group), count.data()});
+  parallel_for(gpu, n, CountNeighbours<D>{cells.view(group, levels), count.data()});
   check(cudaMemset(list.offset.data(), 0, sizeof(Index)), "memset");
   std::size_t bytes = 0;
   check(cub::DeviceScan::InclusiveSum(nullptr, bytes, count.data(), list.offset.data() + 1, n), "scan size");
@@ -115,13 +116,13 @@ DeviceNeighbourList device_neighbour_list(const DeviceCellList<D>& cells, Index 
   copy_device_to_host(&pairs, list.offset.data() + n, sizeof(Index));
   list.index = DeviceArray<Index>(static_cast<std::size_t>(pairs));
   poison(list.index);
-  parallel_for(gpu, n, FillNeighbours<D>{cells.view(group), list.offset.data(), list.index.data()});
+  parallel_for(gpu, n, FillNeighbours<D>{cells.view(group, levels), list.offset.data(), list.index.data()});
   return list;
 }
 
 template class DeviceCellList<2>;
 template class DeviceCellList<3>;
-template DeviceNeighbourList device_neighbour_list<2>(const DeviceCellList<2>&, Index, const int*);
-template DeviceNeighbourList device_neighbour_list<3>(const DeviceCellList<3>&, Index, const int*);
+template DeviceNeighbourList device_neighbour_list<2>(const DeviceCellList<2>&, Index, const int*, const LevelReach&);
+template DeviceNeighbourList device_neighbour_list<3>(const DeviceCellList<3>&, Index, const int*, const LevelReach&);
 
 }  // namespace isph

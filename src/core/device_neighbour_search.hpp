@@ -16,8 +16,8 @@ class DeviceCellList {
   // x: n positions in device memory, kept by pointer until the next build.
   void build(const Vec<D>* x, Index n, Real radius, const Periodicity<D>& period = {});
   // Device pointers, for functors launched on the device.
-  CellListView<D> view(const int* group = nullptr) const {
-    return {grid_, cell_start_.data(), sorted_.data(), x_, group, radius_ * radius_, period_};
+  CellListView<D> view(const int* group = nullptr, const LevelReach& levels = {}) const {
+    return {grid_, cell_start_.data(), sorted_.data(), x_, group, radius_ * radius_, period_, levels};
   }
   const DeviceArray<Index>& order() const { return sorted_; }  // particle indices ordered by cell
 
@@ -39,8 +39,10 @@ struct DeviceNeighbourList {
 };
 
 template <int D>
-DeviceNeighbourList device_neighbour_list(const DeviceCellList<D>& cells, Index n, const int* group = nullptr);
+DeviceNeighbourList device_neighbour_list(const DeviceCellList<D>& cells, Index n, const int* group = nullptr,
+                                          const LevelReach& levels = {});
 template <int D>
-DeviceNeighbourList debug_device_neighbour_list(const DeviceCellList<D>& cells, Index n, const int* group);
+DeviceNeighbourList debug_device_neighbour_list(const DeviceCellList<D>& cells, Index n, const int* group,
+                                                const LevelReach& levels);
 
 }  // namespace isph

@@ -25,18 +25,19 @@ void DeviceCellList<D>::build_on_debug_device(const Vec<D>* x, Index n, Real rad
 }
 
 template <int D>
-DeviceNeighbourList debug_device_neighbour_list(const DeviceCellList<D>& cells, Index n, const int* group) {
+DeviceNeighbourList debug_device_neighbour_list(const DeviceCellList<D>& cells, Index n, const int* group,
+                                                const LevelReach& levels) {
   NeighbourList host;
   {
     const EmulatedLaunch launch;
-    host = neighbour_list(cells.view(group), n);
+    host = neighbour_list(cells.view(group, levels), n);
   }
   return {DeviceArray<Index>(host.offset), DeviceArray<Index>(host.index)};
 }
 
 template void DeviceCellList<2>::build_on_debug_device(const Vec<2>*, Index, Real, const Periodicity<2>&);
 template void DeviceCellList<3>::build_on_debug_device(const Vec<3>*, Index, Real, const Periodicity<3>&);
-template DeviceNeighbourList debug_device_neighbour_list<2>(const DeviceCellList<2>&, Index, const int*);
-template DeviceNeighbourList debug_device_neighbour_list<3>(const DeviceCellList<3>&, Index, const int*);
+template DeviceNeighbourList debug_device_neighbour_list<2>(const DeviceCellList<2>&, Index, const int*, const LevelReach&);
+template DeviceNeighbourList debug_device_neighbour_list<3>(const DeviceCellList<3>&, Index, const int*, const LevelReach&);
 
 }  // namespace isph

@@ -39,6 +39,21 @@ struct CellGrid {
   }
 };
 
+// The reach of each pair in a particle set with more than one resolution (kernels/operators.hpp
+// KernelTable): particles carry a level, reach2[l] is the squared kernel support of level l (ascending),
+// and a pair is within reach when |r_ij|^2 < reach2[max(level_i, level_j)]. Without levels every pair
+// within the cell list's radius is.
+inline constexpr int kMaxLevels = 4;
+struct LevelReach {
+  const unsigned char* level = nullptr;
+  Real reach2[kMaxLevels] = {};
+  ISPH_HD bool within(Index i, Index j, Real r2) const {
+    if (!level) return true;
+    const int l = level[i] > level[j] ? level[i] : level[j];
+    return r2 < reach2[l];
+  }
+};
+
 // A read-only view of a built cell list, usable inside functors.
 template <int D>
 struct CellListView {
@@ -49,12 +64,14 @@ struct CellListView {
   const int* group;         // optional: only pairs with equal group are neighbours
   Real radius2;
   Periodicity<D> period;
+  LevelReach levels = {};   // optional: each pair's own reach, at most the radius
 
-  // Calls f(j, r_ij) for every j != i with |r_ij| < radius, r_ij = x_i - x_j (minimum image).
+  // Calls f(j, r_ij) for every j != i with |r_ij| < radius (and within the pair's reach),
+  // r_ij = x_i - x_j (minimum image).
   template <class F>
   ISPH_HD void for_each_neighbour(Index i, F&& f) const {
     for_each_near(x[i], [&](Index j, const Vec<D>& r) {
-      if (j != i && !(group && group[j] != group[i])) f(j, r);
+      if (j != i && !(group && group[j] != group[i]) && levels.within(i, j, norm2(r))) f(j, r);
     });
   }
 
@@ -173,8 +190,8 @@ class CellList {
   // Particle indices ordered by cell (stable): the permutation that sorts particles by cell.
   const std::vector<Index>& order() const { return sorted_; }
 
-  CellListView<D> view(const int* group = nullptr) const {
-    return {grid_, cell_start_.data(), sorted_.data(), x_, group, radius_ * radius_, period_};
+  CellListView<D> view(const int* group = nullptr, const LevelReach& levels = {}) const {
+    return {grid_, cell_start_.data(), sorted_.data(), x_, group, radius_ * radius_, period_, levels};
   }
 
  private:
@@ -206,8 +223,9 @@ NeighbourList neighbour_list(const CellListView<D>& cells, Index n) {
   return list;
 }
 template <int D>
-NeighbourList neighbour_list(const CellList<D>& cells, Index n, const int* group = nullptr) {
-  return neighbour_list(cells.view(group), n);
+NeighbourList neighbour_list(const CellList<D>& cells, Index n, const int* group = nullptr,
+                             const LevelReach& levels = {}) {
+  return neighbour_list(cells.view(group, levels), n);
 }
 
 // Builds the CSR list of all pairs closer than `radius` (and in the same group, if given; minimum

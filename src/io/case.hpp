@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/rigid_motion.hpp"     // MotionSpec
 #include "poisson/linear_solver.hpp"  // hypre_available
 
 namespace isph {
@@ -51,34 +52,6 @@ struct InitialVelocitySpec {
   std::array<double, 3> root{};              // point on the clamped end
   std::array<double, 3> axis{1, 0, 0};       // beam axis (unit)
   std::array<double, 3> direction{0, 1, 0};  // direction of the velocity (unit)
-};
-
-// Prescribed rigid motion of a wall body, or of the clamped particles of a structure body (their
-// clamp moves with it: the baffle of a rolling tank). X is a particle's position as the case file draws
-// it, which is its position at t = 0: the body moves by s(t) - s(0).
-//  "none":              fixed.
-//  "constant_velocity": x = X + velocity t.
-//  "translation":       x = X + (s(t) - s(0)) direction, s in metres.
-//  "rotation" (2D):     x = pivot + R(theta) (X - pivot), theta = s(t) - s(0) in degrees, counter-clockwise.
-// s(t) follows `profile`:
-//  "polynomial": s = sum_k coefficients[k] t^k, held at s(until) after t = until (until = 0: never held);
-//  "sine":       s = amplitude sin(2 pi t / period + phase);
-//  "csv":        rows "time, s" of a file, strictly increasing in time and reaching end_time,
-//                interpolated by a natural cubic spline (so that the velocity and acceleration are
-//                continuous); before the first row the first value holds.
-struct MotionSpec {
-  std::string type = "none";                 // none | constant_velocity | translation | rotation
-  std::array<double, 3> velocity{};          // constant_velocity [m/s]
-  std::array<double, 3> direction{0, 1, 0};  // translation (unit)
-  std::array<double, 3> pivot{};             // rotation
-  std::string profile = "polynomial";        // translation, rotation: polynomial | sine | csv
-  std::vector<double> coefficients;          // polynomial [m or deg, per s^k]
-  double until = 0.0;                        // polynomial [s]
-  double amplitude = 0.0;                    // sine [m or deg]
-  double period = 0.0;                       // sine [s]
-  double phase = 0.0;                        // sine [rad]
-  std::string file;                          // csv: as given, resolved against the case file's folder
-  std::vector<double> times, values;         // csv: the rows, read by the loader
 };
 
 // A body: a primitive filled on a lattice of spacing dx (by default cell-centred: the lattice points

@@ -63,7 +63,7 @@ FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid
   fluid.begin_step(dt, timer);
   quasi_newton_.begin_step();
   timer.time("structure", [&] {
-    set_obstacles(fluid);
+    set_obstacles(fluid.particles());
     solver_.save_state();
     parallel_for(exec_, n, CopyElements<Vec<D>>{solver_.position().data(), x_old_.data()});
   });
@@ -101,10 +101,10 @@ FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid
   fluid.end_step(dt, timer);
   timer.time("structure", [&] {
     solver_.update_stress();
-    fluid.move_structure(solver_.position(), v_new_, solver_.deformation_gradient());
+    fluid.particles().move_structure(solver_.position(), v_new_, solver_.deformation_gradient());
     v_mean_.swap(v_new_);
   });
-  record_contact(fluid, timer);
+  record_contact(fluid.particles(), timer);
   account_step(work, force, count, iteration);
   return report;
 }
@@ -120,30 +120,30 @@ void StructureCoupling<D>::explicit_step(Real t, Real dt, WcsphSolver<D>& fluid,
   Real work = 0;
   int count = 0;
   timer.time("structure", [&] {
-    set_obstacles(fluid);
+    set_obstacles(fluid.particles());
     parallel_for(exec_, n, CopyElements<Vec<D>>{solver_.position().data(), x_old_.data()});
     count = substep(t, dt, work);
     solver_.update_stress();
     parallel_for(exec_, n, ChordMotion<D>{solver_.position().data(), x_old_.data(), nullptr, 1.0 / dt, v_new_.data(), nullptr});
-    fluid.move_structure(solver_.position(), v_new_, solver_.deformation_gradient());
+    fluid.particles().move_structure(solver_.position(), v_new_, solver_.deformation_gradient());
   });
   account_step(work, force, count, 1);
 }
 
 template <int D>
-bool StructureCoupling<D>::restore(const SnapshotData& snapshot, FluidParticles<D>& fluid) {
+bool StructureCoupling<D>::restore(const SnapshotData& snapshot, ParticleSet<D>& fluid) {
   const auto own_velocity = snapshot.fields.find("structure_velocity");
   const auto acceleration = snapshot.fields.find("structure_acceleration");
   const bool complete = own_velocity != snapshot.fields.end() && acceleration != snapshot.fields.end();
   const std::vector<long long> row = snapshot.rows_by_id();
   StateVector<Vec<D>> x(x_old_), v(x_old_);
   for (Index a = 0; a < fluid.size(); ++a) {
-    const Index s = fluid.structure_index()[a];
+    const Index s = fluid.structure_index[a];
     if (s < 0) continue;
-    x[s] = fluid.position()[a];
-    v_mean_[s] = fluid.velocity()[a];
-    v[s] = complete ? snapshot_vector<D>(own_velocity->second, row[fluid.id()[a]]) : v_mean_[s];
-    a_guess_[s] = complete ? snapshot_vector<D>(acceleration->second, row[fluid.id()[a]]) : Vec<D>::zero();
+    x[s] = fluid.position[a];
+    v_mean_[s] = fluid.velocity[a];
+    v[s] = complete ? snapshot_vector<D>(own_velocity->second, row[fluid.id[a]]) : v_mean_[s];
+    a_guess_[s] = complete ? snapshot_vector<D>(acceleration->second, row[fluid.id[a]]) : Vec<D>::zero();
   }
   solver_.set_motion(x, v);
   const auto work = snapshot.attributes.find("interaction_work");
@@ -155,13 +155,13 @@ bool StructureCoupling<D>::restore(const SnapshotData& snapshot, FluidParticles<
 }
 
 template <int D>
-void StructureCoupling<D>::add_snapshot_fields(const FluidParticles<D>& fluid, const std::vector<Index>& slot,
+void StructureCoupling<D>::add_snapshot_fields(const ParticleSet<D>& fluid, const std::vector<Index>& slot,
                                                std::vector<SnapshotField>& fields) const {
   const std::size_t n = slot.size();
   SnapshotField velocity{"structure_velocity", 3, std::vector<double>(3 * n, 0.0)};
   SnapshotField acceleration{"structure_acceleration", 3, std::vector<double>(3 * n, 0.0)};
   for (std::size_t k = 0; k < n; ++k) {
-    const Index s = fluid.structure_index()[slot[k]];
+    const Index s = fluid.structure_index[slot[k]];
     if (s < 0) continue;
     for (int d = 0; d < D; ++d) {
       velocity.data[3 * k + d] = solver_.velocity()[s][d];
@@ -179,7 +179,7 @@ void StructureCoupling<D>::set_interaction() {
 }
 
 template <int D>
-void StructureCoupling<D>::set_obstacles(const FluidParticles<D>& fluid) {
+void StructureCoupling<D>::set_obstacles(const ParticleSet<D>& fluid) {
   if (!spec_.wall_contact) return;
   if (walls_gathered_ && !fluid.has_moving_walls()) {  // fixed walls: the same points, new candidates
     solver_.find_obstacle_candidates();
@@ -211,8 +211,8 @@ void StructureCoupling<D>::account_step(Real work, const Vec<D>& force, int coun
 }
 
 template <int D>
-void StructureCoupling<D>::record_contact(FluidParticles<D>& fluid, PhaseTimer& timer) {
-  timer.time("interaction", [&] { contact_.add(fluid.contact(FluidKind::structure), fluid.time()); });
+void StructureCoupling<D>::record_contact(ParticleSet<D>& fluid, PhaseTimer& timer) {
+  timer.time("interaction", [&] { contact_.add(fluid.contact(FluidKind::structure), fluid.time); });
 }
 
 template <int D>

@@ -85,7 +85,7 @@ class StructureCoupling {
   // over the step goes to the fluid (positions, chord velocity, normals).
   void explicit_step(Real t, Real dt, WcsphSolver<D>& fluid, PhaseTimer& timer);
   // Penetration diagnostics after a fluid step.
-  void record_contact(FluidParticles<D>& fluid, PhaseTimer& timer);
+  void record_contact(ParticleSet<D>& fluid, PhaseTimer& timer);
 
   // Continues from a snapshot (after fluid.restore): the structure's positions and the fluid's view of
   // its velocity (the chord velocity) from the fluid particles, and from the snapshot's fields
@@ -93,10 +93,10 @@ class StructureCoupling {
   // the start of the next interface iterations. A snapshot without them (written before they existed)
   // gives TLSPH the chord velocity and the iterations a zero start; returns false then. The
   // quasi-Newton columns of earlier steps are not kept: the first steps converge without them.
-  bool restore(const SnapshotData& snapshot, FluidParticles<D>& fluid);
+  bool restore(const SnapshotData& snapshot, ParticleSet<D>& fluid);
   // What a restart needs besides the fluid's fields, per structure particle of the fluid (in the
   // order of `slot`, zero on other particles): TLSPH's velocity and the last step's a_s.
-  void add_snapshot_fields(const FluidParticles<D>& fluid, const std::vector<Index>& slot,
+  void add_snapshot_fields(const ParticleSet<D>& fluid, const std::vector<Index>& slot,
                            std::vector<SnapshotField>& fields) const;
 
   const TlsphSolver<D>& solver() const { return solver_; }
@@ -113,7 +113,7 @@ class StructureCoupling {
   // alpha(f->s) = f_s / rho_s (Eq. 48) from force_density_, handed to the TLSPH solver.
   void set_interaction();
   // The fluid's wall particles as the TLSPH solver's obstacles, and each structure particle's candidates.
-  void set_obstacles(const FluidParticles<D>& fluid);
+  void set_obstacles(const ParticleSet<D>& fluid);
   // The deepest structure-wall overlap at the step's end, for summary().
   void record_overlap();
   // The step's totals for summary(): interaction work, force, substeps, interface iterations.

@@ -2,8 +2,8 @@
 // Particle loops of the ISPH predictor and projection (seed 001 Eqs. 10-13, 18-19). Each functor
 // writes only particle a and reads its neighbours; wall particles are skipped unless stated.
 #include "core/parallel.hpp"
-#include "sim/fluid_view.hpp"
-#include "sim/prescribed_motion.hpp"
+#include "kernels/fluid_view.hpp"
+#include "core/rigid_motion.hpp"
 
 namespace isph {
 
@@ -28,13 +28,13 @@ struct VelocityGradient {
     for (Index k = op.nbr_offset[a]; k < op.nbr_offset[a + 1]; ++k) {
       const Index b = op.nbr[k];
       const Vec<D> ub = no_slip ? v.velocity_seen(a, b, u) : v.velocity_mirrored(a, b, u);
-      s = s + outer(ub - u[a], op.volume[b] * op.kernel.gradient(op.r(a, b)));
+      s = s + outer(ub - u[a], op.volume[b] * op.gradient(a, b, op.r(a, b)));
     }
     const Mat<D> g = s * transpose(L[a]);  // sum (u_b - u_a) ⊗ (L g_ab) = S L^T
     grad[a] = g;
     if (smagorinsky > 0) {
       const Mat<D> strain = 0.5 * (g + transpose(g));
-      const Real filter = smagorinsky * op.kernel.h;
+      const Real filter = smagorinsky * op.own_kernel(a).h;
       eddy_viscosity[a] = filter * filter * sqrt(2 * ddot(strain, strain));
     }
   }
@@ -89,7 +89,7 @@ struct ViscousAcceleration {
       if (!(rho > 0)) continue;
       const Real nu_b = viscosity + (eddy_viscosity && v.is_fluid(b) ? eddy_viscosity[b] : 0);
       const Real w = 0.5 * (nu_a + nu_b) *
-                     laplacian_pair_weight(bhat, r_ab, rho, op.volume[b] * op.kernel.gradient(r_ab));
+                     laplacian_pair_weight(bhat, r_ab, rho, op.volume[b] * op.gradient(a, b, r_ab));
       term(b, (w / rho) * (u[a] - v.velocity_seen(a, b, u) - G * r_ab));
     }
   }
@@ -105,7 +105,7 @@ struct ViscousAcceleration {
 // force m_a c_ab (ViscousAcceleration's flux form) and move with U_b, so they work at
 //   P_a = rho V_a sum_{b wall} c_ab · U_b
 // (fixed walls give 0; structures do not count, as they do not feel the traction back). With their
-// pressure's, the moving walls' work on the fluid (FluidParticles::moving_wall_power); on the plate of
+// pressure's, the moving walls' work on the fluid (ParticleSet::moving_wall_power); on the plate of
 // Couette flow it is mu U^2/H per area.
 template <int D>
 struct ViscousWallPower {
@@ -286,7 +286,7 @@ struct ScatterStructureForce {
   }
 };
 
-// The wall particles as obstacles of the structure (FluidParticles::gather_walls): with
+// The wall particles as obstacles of the structure (ParticleSet::gather_walls): with
 // slot[k + 1] = 1 for a wall and 0 otherwise, summed (inclusive_scan), wall k goes to place slot[k],
 // as point x_k with radius V_k^(1/D) / 2.
 struct MarkWalls {

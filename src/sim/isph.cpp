@@ -36,23 +36,39 @@ ShiftingType shifting_type_from_name(const std::string& name) {
 
 template <int D>
 IsphSolver<D>::IsphSolver(FluidSetup<D> s)
-    : Base(s),
+    : particles_(s),
+      exec_(particles_.exec()),
+      density_(s.density),
+      viscosity_(s.viscosity),
+      reference_velocity_(s.reference_velocity),
+      kernel_(s.fluid_kernel()),
+      gravity_(s.gravity),
+      settings_(s.settings),
       kernel_correction_(s.kernel_correction),
       shifting_(shifting_type_from_name(s.settings.shifting.type)),
       extrapolate_surface_(s.settings.surface_pressure == "extrapolated"),
       fsi_shifting_(s.fsi_shifting),
       pairwise_force_(s.interaction_force == "pairwise") {
-  for (auto* v : {&x_old_, &u_star_, &u_new_, &grad_p_, &surface_normal_, &shift_, &wall_moment_}) *v = this->state_array(Vec<D>::zero());
-  for (auto* v : {&L_, &Bhat_, &L_structure_}) *v = this->state_array(Mat<D>::identity());
-  grad_u_ = this->state_array(Mat<D>::zero());
-  div_r_ = this->state_array(Real{D});
-  alpha_ = this->state_array(Real{1});
-  for (auto* v : {&div_u_star_, &eddy_viscosity_, &pressure_volume_, &rhs_, &p_trial_}) *v = this->state_array(Real{0});
-  for (auto* v : {&detected_, &cls_}) *v = this->state_array(SurfaceClass::interior);
+  ParticleSet<D>& ps = particles_;
+  for (auto* v : {&x_old_, &u_star_, &u_new_, &grad_p_, &surface_normal_, &shift_, &wall_moment_}) *v = ps.array(Vec<D>::zero());
+  for (auto* v : {&L_, &Bhat_, &L_structure_}) *v = ps.array(Mat<D>::identity());
+  grad_u_ = ps.array(Mat<D>::zero());
+  div_r_ = ps.array(Real{D});
+  alpha_ = ps.array(Real{1});
+  for (auto* v : {&div_u_star_, &eddy_viscosity_, &pressure_volume_, &rhs_, &p_trial_}) *v = ps.array(Real{0});
+  for (auto* v : {&detected_, &cls_}) *v = ps.array(SurfaceClass::interior);
+  // The work arrays are refilled every step before they are read; they follow the particles anyway, so
+  // that their sizes follow a removal and the snapshot fields (classes, div r, shift) stay aligned.
+  // p_trial_ is a copy of the pressure from each solve on.
+  for (auto* v : {&x_old_, &u_star_, &u_new_, &grad_p_, &surface_normal_, &shift_, &wall_moment_}) ps.attach(*v);
+  for (auto* v : {&L_, &Bhat_, &grad_u_, &L_structure_}) ps.attach(*v);
+  for (auto* v : {&div_r_, &alpha_, &div_u_star_, &eddy_viscosity_, &pressure_volume_, &rhs_}) ps.attach(*v);
+  ps.attach(detected_);
+  ps.attach(cls_);
   for (auto* m : {&full_matrix_, &matrix_}) {
-    m->row_offset = StateVector<int>(this->template state_allocator<int>());
-    m->col = StateVector<int>(this->template state_allocator<int>());
-    m->val = StateVector<double>(this->template state_allocator<double>());
+    m->row_offset = StateVector<int>(ps.template allocator<int>());
+    m->col = StateVector<int>(ps.template allocator<int>());
+    m->val = StateVector<double>(ps.template allocator<double>());
   }
   const Real full = D;  // div r in a full support
   thresholds_.chi = settings_.surface_threshold > 0 ? settings_.surface_threshold : full - 0.6;
@@ -61,18 +77,6 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
   if (settings_.ppe.fallback != "none")
     fallback_ = make_linear_solver(solver_settings(settings_.ppe, settings_.ppe.fallback));
   solver_name_ = solver_->name();
-}
-
-// The work arrays are refilled every step before they are read; they follow the particles anyway, so
-// that their sizes follow a removal and the snapshot fields (classes, div r, shift) stay aligned.
-template <int D>
-void IsphSolver<D>::permute_work(const Index* order, Index count) {
-  for (auto* v : {&x_old_, &u_star_, &u_new_, &grad_p_, &surface_normal_, &shift_, &wall_moment_}) this->permute(*v, order, count);
-  for (auto* v : {&L_, &Bhat_, &grad_u_, &L_structure_}) this->permute(*v, order, count);
-  for (auto* v : {&div_r_, &alpha_, &div_u_star_, &eddy_viscosity_, &pressure_volume_}) this->permute(*v, order, count);
-  this->permute(rhs_, order, count);  // p_trial_ is a copy of p_ from each solve on
-  this->permute(detected_, order, count);
-  this->permute(cls_, order, count);
 }
 
 template <int D>
@@ -93,9 +97,9 @@ void IsphSolver<D>::compress_matrix() {
 template <int D>
 Real IsphSolver<D>::time_step() const {
   const Real h = kernel_.h;
-  const Real u = std::max(this->max_speed(), reference_velocity_);
+  const Real u = std::max(particles_.max_speed(), reference_velocity_);
   Real dt = settings_.courant * h / u;  // Eq. 49
-  const Real nu_max = viscosity_ + parallel_reduce(exec_, this->size(), Real{0}, ScalarAt{eddy_viscosity_.data()}, MaxOf{});
+  const Real nu_max = viscosity_ + parallel_reduce(exec_, particles_.size(), Real{0}, ScalarAt{eddy_viscosity_.data()}, MaxOf{});
   if (nu_max > 0) dt = std::min(dt, settings_.viscous_number * h * h / nu_max);
   if (settings_.max_dt > 0) dt = std::min(dt, settings_.max_dt);
   return dt;
@@ -112,20 +116,20 @@ FluidStepReport IsphSolver<D>::step(Real dt, PhaseTimer& timer) {
 
 template <int D>
 void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
-  const Index n = this->size();
+  const Index n = particles_.size();
   const bool sps = settings_.turbulence == "sps";
 
-  if (!motions_.empty()) timer.time("wall_motion", [&] { this->prescribe_walls(dt); });
+  if (particles_.has_moving_walls()) timer.time("wall_motion", [&] { particles_.prescribe_walls(dt); });
 
   // Eq. 11: r* = r^n + dt u^n (walls move with their prescribed velocity). The neighbours are found
   // at r*, where the particles may be re-sorted; r^n is then recovered as r* - dt u^n.
   timer.time("neighbours", [&] {
-    parallel_for(exec_, n, Drift<D>{kind_.data(), u_.data(), wall_velocity_.data(), dt, true, period_, x_.data(), x_.data()});
-    this->find_neighbours();
-    parallel_for(exec_, n, Drift<D>{kind_.data(), u_.data(), wall_velocity_.data(), -dt, false, period_, x_.data(),
+    parallel_for(exec_, n, Drift<D>{particles_.kind.data(), particles_.velocity.data(), particles_.wall_velocity.data(), dt, true, particles_.period(), particles_.position.data(), particles_.position.data()});
+    particles_.find_neighbours();
+    parallel_for(exec_, n, Drift<D>{particles_.kind.data(), particles_.velocity.data(), particles_.wall_velocity.data(), -dt, false, particles_.period(), particles_.position.data(),
                                     x_old_.data()});
   });
-  const FluidView<D> v = this->view();
+  const FluidView<D> v = particles_.view();
   FluidView<D> pv = v;  // the pressure stages' view: dry walls have no volume (PressureVolume)
   pv.op.volume = pressure_volume_.data();
 
@@ -135,12 +139,12 @@ void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
       parallel_for(exec_, n, GradientCorrection<D>{v.op, L_.data()});
       parallel_for(exec_, n, LaplacianRenormalisation<D>{v.op, L_.data(), Bhat_.data()});
     }
-    parallel_for(exec_, n, VelocityGradient<D>{v, L_.data(), u_.data(), true, sps ? settings_.smagorinsky : 0.0,
+    parallel_for(exec_, n, VelocityGradient<D>{v, L_.data(), particles_.velocity.data(), true, sps ? settings_.smagorinsky : 0.0,
                                                grad_u_.data(), eddy_viscosity_.data()});
-    const ViscousAcceleration<D> viscous{v, Bhat_.data(), grad_u_.data(), u_.data(),
+    const ViscousAcceleration<D> viscous{v, Bhat_.data(), grad_u_.data(), particles_.velocity.data(),
                                          sps ? eddy_viscosity_.data() : nullptr, viscosity_};
     parallel_for(exec_, n, VelocityPredictor<D>{viscous, gravity_, dt, u_star_.data()});
-    if (!motions_.empty()) this->record_viscous_wall_power(viscous);
+    if (particles_.has_moving_walls()) particles_.record_viscous_wall_power(viscous);
   });
 
   // Free surface (Fig. 2) and Skillen's coefficient (Eq. 17).
@@ -150,8 +154,8 @@ void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
                                                detected_.data(), alpha_.data()});
     parallel_for(exec_, n, NearSurfaceDetection<D>{v, detected_.data(), cls_.data()});
     // p is defined up to a constant without a Dirichlet row: fix it at the fluid particle of lowest id.
-    if (parallel_reduce(exec_, n, Index{0}, DirichletRow{kind_.data(), alpha_.data()}, IntegerSum{}) == 0)
-      pinned = lowest_id_particle(exec_, n, IsFluid{kind_.data()}, id_.data());
+    if (parallel_reduce(exec_, n, Index{0}, DirichletRow{particles_.kind.data(), alpha_.data()}, IntegerSum{}) == 0)
+      pinned = lowest_id_particle(exec_, n, IsFluid{particles_.kind.data()}, particles_.id.data());
     parallel_for(exec_, n, PressureVolume<D>{v, alpha_.data(), pressure_volume_.data()});
     if (kernel_correction_) parallel_for(exec_, n, GradientCorrection<D>{pv.op, L_.data()});
     parallel_for(exec_, n, SurfaceNormal<D>{pv, L_.data(), cls_.data(), alpha_.data(), surface_normal_.data()});
@@ -162,7 +166,7 @@ void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
     parallel_for(exec_, n, CorrectedDivergence<D>{pv.op, L_.data(), u_star_.data(), div_u_star_.data()});
     full_matrix_.rows = n;
     full_matrix_.row_offset.resize(n + 1);
-    parallel_for(exec_, n + 1, PpeRowOffsets{this->neighbour_offset(), full_matrix_.row_offset.data()});
+    parallel_for(exec_, n + 1, PpeRowOffsets{particles_.neighbour_offset(), full_matrix_.row_offset.data()});
     resize_for_overwrite(full_matrix_.col, full_matrix_.row_offset[n]);
     resize_for_overwrite(full_matrix_.val, full_matrix_.row_offset[n]);
     parallel_for(exec_, n, PpeRowFill<D>{pv, L_.data(), alpha_.data(), div_u_star_.data(), density_, dt, gravity_,
@@ -176,8 +180,8 @@ void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
 
 template <int D>
 void IsphSolver<D>::warm_start() {
-  p_trial_.resize(p_.size());  // allocated once: the copy runs on the particles' device
-  parallel_for(exec_, this->size(), CopyElements<Real>{p_.data(), p_trial_.data()});
+  p_trial_.resize(particles_.pressure.size());  // allocated once: the copy runs on the particles' device
+  parallel_for(exec_, particles_.size(), CopyElements<Real>{particles_.pressure.data(), p_trial_.data()});
 }
 
 template <int D>
@@ -199,69 +203,69 @@ void IsphSolver<D>::solve_pressure(FluidStepReport& report, PhaseTimer& timer) {
     report.ppe_iterations += iterations;
     report.ppe_max_iterations = std::max(report.ppe_max_iterations, iterations);
     report.ppe_failed = !report.ppe.converged;
-    if (!report.ppe_failed) p_.swap(p_trial_);
+    if (!report.ppe_failed) particles_.pressure.swap(p_trial_);
   });
 }
 
 template <int D>
 void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
-  const Index n = this->size();
-  const FluidView<D> v = this->view();
+  const Index n = particles_.size();
+  const FluidView<D> v = particles_.view();
   FluidView<D> pv = v;
   pv.op.volume = pressure_volume_.data();
 
   // Eqs. 18-19: projection and position update.
   timer.time("projection", [&] {
-    parallel_for(exec_, n, CorrectedGradient<D>{pv.op, L_.data(), p_.data(), grad_p_.data()});
+    parallel_for(exec_, n, CorrectedGradient<D>{pv.op, L_.data(), particles_.pressure.data(), grad_p_.data()});
     parallel_for(exec_, n, Project<D>{v, grad_p_.data(), u_star_.data(), density_, dt, u_new_.data()});
-    parallel_for(exec_, n, Advance<D>{kind_.data(), wall_velocity_.data(), u_new_.data(), x_old_.data(), dt, period_,
-                                      u_.data(), x_.data()});
+    parallel_for(exec_, n, Advance<D>{particles_.kind.data(), particles_.wall_velocity.data(), u_new_.data(), x_old_.data(), dt, particles_.period(),
+                                      particles_.velocity.data(), particles_.position.data()});
   });
 
   // Eqs. 20-26, 31-32: shifting at r^{n+1}, with the neighbour list, classes and surface normals of r*.
   if (shifting_ != ShiftingType::none)
     timer.time("shifting", [&] {
       if (kernel_correction_) parallel_for(exec_, n, GradientCorrection<D>{pv.op, L_.data()});
-      const Real zeta = this->max_speed() * dt;
+      const Real zeta = particles_.max_speed() * dt;
       parallel_for(exec_, n, ShiftDisplacement<D>{pv, cls_.data(), surface_normal_.data(), shifting_,
                                                   settings_.shifting.coefficient, zeta,
                                                   settings_.shifting.max_fraction * kernel_.h,
-                                                  fsi_shifting_ && has_structure_, shift_.data()});
+                                                  fsi_shifting_ && particles_.has_structure(), shift_.data()});
       if (settings_.shifting.taylor_correction) {
-        parallel_for(exec_, n, VelocityGradient<D>{pv, L_.data(), u_.data(), false, 0.0, grad_u_.data(), nullptr});
-        parallel_for(exec_, n, CorrectedGradient<D>{pv.op, L_.data(), p_.data(), grad_p_.data()});
+        parallel_for(exec_, n, VelocityGradient<D>{pv, L_.data(), particles_.velocity.data(), false, 0.0, grad_u_.data(), nullptr});
+        parallel_for(exec_, n, CorrectedGradient<D>{pv.op, L_.data(), particles_.pressure.data(), grad_p_.data()});
         parallel_for(exec_, n, TaylorCorrection<D>{pv, cls_.data(), shift_.data(), grad_u_.data(), grad_p_.data(),
-                                                   u_.data(), p_.data(), u_new_.data(), p_trial_.data()});
-        u_.swap(u_new_);
-        p_.swap(p_trial_);
+                                                   particles_.velocity.data(), particles_.pressure.data(), u_new_.data(), p_trial_.data()});
+        particles_.velocity.swap(u_new_);
+        particles_.pressure.swap(p_trial_);
       }
-      parallel_for(exec_, n, ApplyShift<D>{shift_.data(), period_, x_.data()});
+      parallel_for(exec_, n, ApplyShift<D>{shift_.data(), particles_.period(), particles_.position.data()});
     });
-  if (!motions_.empty())
+  if (particles_.has_moving_walls())
     timer.time("wall_motion", [&] {
       boundary_pressure_force(true, FluidKind::wall);
-      wall_work_ += dt * this->moving_wall_power();
+      particles_.wall_work += dt * particles_.moving_wall_power();
     });
-  time_ += dt;
+  particles_.time += dt;
 }
 
 template <int D>
 void IsphSolver<D>::boundary_pressure_force(bool pairwise, FluidKind target) {
-  parallel_for(exec_, this->size(), BoundaryPressureForce<D>{this->view(), p_.data(), L_structure_.data(), grad_p_.data(),
-                                                             boundary_force_.data(), pairwise, target});
+  parallel_for(exec_, particles_.size(), BoundaryPressureForce<D>{particles_.view(), particles_.pressure.data(), L_structure_.data(), grad_p_.data(),
+                                                             particles_.boundary_force.data(), pairwise, target});
 }
 
 template <int D>
 void IsphSolver<D>::set_structure_acceleration(std::span<const Vec<D>> a) {
-  Base::set_structure_acceleration(a);
-  parallel_for(exec_, this->size(),
-               StructureRowRhs<D>{structure_index_.data(), a.data(), gravity_, wall_moment_.data(), rhs_.data()});
+  particles_.follow_structure_acceleration(a);
+  parallel_for(exec_, particles_.size(),
+               StructureRowRhs<D>{particles_.structure_index.data(), a.data(), gravity_, wall_moment_.data(), rhs_.data()});
 }
 
 template <int D>
 Vec<D> IsphSolver<D>::structure_pressure_force(std::span<Vec<D>> force_density) {
   boundary_pressure_force(pairwise_force_, FluidKind::structure);
-  return this->gather_structure_force(force_density);
+  return particles_.gather_structure_force(force_density);
 }
 
 template <int D>

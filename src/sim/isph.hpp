@@ -11,16 +11,17 @@
 #include "poisson/free_surface.hpp"
 #include "poisson/linear_solver.hpp"
 #include "shifting/particle_shifting.hpp"
-#include "sim/fluid_particles.hpp"
+#include "sim/particle_set.hpp"
 
 namespace isph {
 
 template <int D>
-class IsphSolver : public FluidParticles<D> {
-  using Base = FluidParticles<D>;
-
+class IsphSolver final : public FluidModel<D> {
  public:
   explicit IsphSolver(FluidSetup<D> setup);
+
+  ParticleSet<D>& particles() override { return particles_; }
+  const ParticleSet<D>& particles() const override { return particles_; }
 
   // Eq. 49 with the fluid's fastest particle (at least the reference velocity), the viscous limit
   // viscous_number h^2 / nu_max, and max_dt.
@@ -46,24 +47,25 @@ class IsphSolver : public FluidParticles<D> {
 
   // The structure's acceleration over the current step, a_s in the PPE rows of structure particles
   // (g - a_s, PpeRowFill); between begin_step and solve_pressure it updates the assembled right-hand side.
-  void set_structure_acceleration(std::span<const Vec<D>> a) override;
+  void set_structure_acceleration(std::span<const Vec<D>> a);
   // After solve_pressure: the pressure force per unit volume on the structure particles (Eq. 48 times
   // rho_s, or its pairwise form), indexed as in the TLSPH solver, and its sum (the force on the structure).
   Vec<D> structure_pressure_force(std::span<Vec<D>> force_density);
 
  private:
-  using Base::x_, Base::u_, Base::p_, Base::volume_, Base::kind_, Base::wall_velocity_, Base::wall_acceleration_,
-      Base::wall_normal_, Base::structure_index_, Base::boundary_force_, Base::motions_,
-      Base::time_, Base::wall_work_, Base::density_, Base::viscosity_, Base::kernel_, Base::period_, Base::gravity_,
-      Base::settings_, Base::has_structure_, Base::exec_, Base::id_, Base::reference_velocity_;
-  void permute_work(const Index* order, Index count) override;
   void compress_matrix();
   // p_trial_ = p_, the solver's start (the last pressure), copied where the particles are.
   void warm_start();
   // The pressure force per unit volume on the boundary particles of one kind, into boundary_force_.
   void boundary_pressure_force(bool pairwise, FluidKind target);
 
-  // work arrays (in managed memory on the cuda device, like the state)
+  ParticleSet<D> particles_;
+  Exec exec_;
+  Real density_, viscosity_, reference_velocity_;
+  SmoothingKernel<D> kernel_;  // the fluid's
+  Vec<D> gravity_;
+  FluidSpec settings_;
+  // work arrays (in managed memory on the cuda device, like the state; they follow the particles)
   StateVector<Vec<D>> x_old_, u_star_, u_new_, grad_p_, surface_normal_, shift_;
   StateVector<Mat<D>> L_, Bhat_, grad_u_;
   StateVector<Real> div_r_, alpha_, div_u_star_, eddy_viscosity_, pressure_volume_;

@@ -338,13 +338,14 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& s
 // model's own fields; with a coupled structure, its Cauchy stress on the structure particles (zero on
 // the others).
 template <int D>
-void write_fluid_snapshot(SnapshotWriter& writer, double t, const FluidParticles<D>& solver,
+void write_fluid_snapshot(SnapshotWriter& writer, double t, const FluidModel<D>& model,
                           const StructureCoupling<D>* coupling) {
+  const ParticleSet<D>& particles = model.particles();
   const TlsphSolver<D>* structure = coupling ? &coupling->solver() : nullptr;
-  const Index n = solver.size();
+  const Index n = particles.size();
   std::vector<Index> slot(n);  // particles by stable id (ids of removed particles are missing)
   std::iota(slot.begin(), slot.end(), 0);
-  std::sort(slot.begin(), slot.end(), [&](Index a, Index b) { return solver.id()[a] < solver.id()[b]; });
+  std::sort(slot.begin(), slot.end(), [&](Index a, Index b) { return particles.id[a] < particles.id[b]; });
   std::vector<std::array<double, 3>> pos(n);
   SnapshotField vel{"velocity", 3, std::vector<double>(3 * n, 0.0)};
   SnapshotField p{"pressure", 1, std::vector<double>(n)}, kind{"kind", 1, std::vector<double>(n)},
@@ -353,24 +354,24 @@ void write_fluid_snapshot(SnapshotWriter& writer, double t, const FluidParticles
       sxy{"sigma_xy", 1, std::vector<double>(n, 0.0)};
   for (Index k = 0; k < n; ++k) {
     const Index a = slot[k];
-    pos[k] = to_array(solver.position()[a]);
-    if (const Index s = solver.structure_index()[a]; structure && s >= 0) {
+    pos[k] = to_array(particles.position[a]);
+    if (const Index s = particles.structure_index[a]; structure && s >= 0) {
       const Mat<D> sigma = structure->cauchy_stress(s);
       sxx.data[k] = sigma(0, 0);
       syy.data[k] = sigma(1, 1);
       sxy.data[k] = sigma(0, 1);
     }
-    put_vector(vel, k, solver.velocity()[a]);
-    p.data[k] = solver.pressure()[a];
-    kind.data[k] = static_cast<double>(solver.kind()[a]);  // 0 fluid, 1 wall, 2 structure
-    id.data[k] = solver.id()[a];
+    put_vector(vel, k, particles.velocity[a]);
+    p.data[k] = particles.pressure[a];
+    kind.data[k] = static_cast<double>(particles.kind[a]);  // 0 fluid, 1 wall, 2 structure
+    id.data[k] = particles.id[a];
   }
   std::vector<SnapshotField> fields{vel, p, kind, id};
-  solver.add_snapshot_fields(slot, fields);
-  SnapshotAttributes restart_state{{"wall_work", solver.wall_work()}};
+  model.add_snapshot_fields(slot, fields);
+  SnapshotAttributes restart_state{{"wall_work", particles.wall_work}};
   if (coupling) {
     fields.insert(fields.end(), {sxx, syy, sxy});
-    coupling->add_snapshot_fields(solver, slot, fields);
+    coupling->add_snapshot_fields(particles, slot, fields);
     restart_state.emplace_back("interaction_work", coupling->interaction_work());
     restart_state.emplace_back("clamp_work", coupling->solver().clamp_work());
   }
@@ -389,7 +390,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   }
   if (scene.has_structure) add_displacement_columns(scene, columns);
   RunFrame frame(spec, opt, columns, D);
-  std::unique_ptr<FluidParticles<D>> solver_ptr;
+  std::unique_ptr<FluidModel<D>> model_ptr;
   IsphSolver<D>* isph = nullptr;    // the model in use: one of these two
   WcsphSolver<D>* wcsph = nullptr;
   std::unique_ptr<StructureCoupling<D>> coupling;
@@ -398,18 +399,19 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
     if (spec.fluid.model == "wcsph") {
       auto model = std::make_unique<WcsphSolver<D>>(std::move(scene.fluid));
       wcsph = model.get();
-      solver_ptr = std::move(model);
+      model_ptr = std::move(model);
     } else {
       auto model = std::make_unique<IsphSolver<D>>(std::move(scene.fluid));
       isph = model.get();
-      solver_ptr = std::move(model);
+      model_ptr = std::move(model);
     }
     if (scene.has_structure)
       coupling = std::make_unique<StructureCoupling<D>>(std::move(scene.structure), spec.coupling, spec.structure.courant,
                                                         gravity_vector<D>(spec.gravity), opt.device);
   });
-  FluidParticles<D>& solver = *solver_ptr;
-  frame.set_output_interval(solver.time_step(), 20);
+  FluidModel<D>& model = *model_ptr;
+  ParticleSet<D>& particles = model.particles();
+  frame.set_output_interval(model.time_step(), 20);
   // The weakly compressible model advances a coupled structure at each of its acoustic steps.
   typename WcsphSolver<D>::AcousticHook structure_hook;
   if (wcsph && coupling)
@@ -419,15 +421,15 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
     timer.time("output", [&] {
       std::vector<double> row{t};
       for (const auto& p : scene.fluid_probes) {
-        if (p.type == "pressure") row.push_back(solver.interpolate_pressure(p.point));
-        if (p.type == "front") row.push_back(solver.front(p.point[D - 1]));
-        if (p.type == "max_speed") row.push_back(solver.max_speed());
+        if (p.type == "pressure") row.push_back(particles.interpolate_pressure(p.point));
+        if (p.type == "front") row.push_back(particles.front(p.point[D - 1]));
+        if (p.type == "max_speed") row.push_back(particles.max_speed());
         if (p.type == "velocity") {
-          const Vec<D> u = solver.interpolate_velocity(p.point);
+          const Vec<D> u = particles.interpolate_velocity(p.point);
           for (int d = 0; d < D; ++d) row.push_back(u[d]);
         }
       }
-      const Real ek = solver.kinetic_energy(), ep = solver.potential_energy();
+      const Real ek = particles.kinetic_energy(), ep = particles.potential_energy();
       Real sk = 0, sp = 0, ss = 0;
       if (coupling) {
         const TlsphSolver<D>& s = coupling->solver();
@@ -437,13 +439,13 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
       }
       frame.probes.add_row(row);
       // energy the moving walls gave the fluid, and the moving clamps the structure
-      const Real ww = solver.wall_work() + (coupling ? coupling->solver().clamp_work() : 0);
+      const Real ww = particles.wall_work + (coupling ? coupling->solver().clamp_work() : 0);
       frame.energy.add_row({t, ek, ep, sk, sp, ss, ww, ek + ep + sk + sp + ss - ww});
     });
   };
   auto snapshot = [&](Real t) {
     timer.time("output", [&] {
-      write_fluid_snapshot(frame.snapshots, t, solver, coupling.get());
+      write_fluid_snapshot(frame.snapshots, t, model, coupling.get());
       frame.flush();
     });
   };
@@ -456,8 +458,8 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
       if (state.time >= spec.end_time * (1 - 1e-12))
         throw std::runtime_error("restart: " + opt.restart + " is at t = " + std::to_string(state.time) +
                                  " s, not before end_time; raise it with --set end_time=...");
-      solver.restore(state);
-      const bool complete = coupling ? coupling->restore(state, solver) : true;
+      particles.restore(state);
+      const bool complete = coupling ? coupling->restore(state, particles) : true;
       t = state.time;
       frame.start_at(t, opt.restart, complete);
       if (opt.progress)
@@ -470,7 +472,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   record(t);
   if (frame.writes_snapshots()) snapshot(t);
   long long step = 0, solves = 0, iterations = 0, max_iterations = 0, failures = 0, removed_total = 0;
-  const Index initial_fluid = solver.fluid_count();
+  const Index initial_fluid = particles.fluid_count();
   double worst_residual = 0;
   Real first_dt = 0, first_removal = 0;
   ContactRecord<D> wall_contact;  // fluid inside the walls, step by step
@@ -478,7 +480,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   while (t < spec.end_time - eps) {
     // Land on end_time without a sliver of a step (the PPE's source div u*/dt is sensitive to tiny dt):
     // the last two steps share what is left.
-    Real dt = solver.time_step();
+    Real dt = model.time_step();
     if (step == 0) first_dt = dt;
     const Real left = spec.end_time - t;
     if (dt >= left - eps) dt = left;
@@ -486,14 +488,14 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
     FluidStepReport report;
     if (wcsph) {
       report = wcsph->step(dt, timer, structure_hook);
-      if (coupling) coupling->record_contact(solver, timer);
+      if (coupling) coupling->record_contact(particles, timer);
     } else {
       report = coupling ? coupling->step(t, dt, *isph, timer) : isph->step(dt, timer);
     }
     ++step;
     t += dt;
-    if (solver.wall_count() > 0)
-      timer.time("contact", [&] { wall_contact.add(solver.contact(FluidKind::wall), t); });
+    if (particles.wall_count() > 0)
+      timer.time("contact", [&] { wall_contact.add(particles.contact(FluidKind::wall), t); });
     solves += report.ppe_solves;
     iterations += report.ppe_iterations;
     worst_residual = std::max(worst_residual, report.ppe.relative_residual);
@@ -512,31 +514,31 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
                     report.ppe.message.c_str(),
                     spec.fluid.ppe.fallback == "none" ? "; a fallback solver can be set with fluid.ppe.fallback" : "");
       frame.diverge(buf);
-    } else if (const Index bad = solver.first_non_finite(); bad >= 0) {
+    } else if (const Index bad = particles.first_non_finite(); bad >= 0) {
       static const char* const kKindNames[] = {"fluid", "wall", "structure"};
       std::snprintf(buf, sizeof buf, "%s particle id %d became non-finite at t = %.6g s (step %lld)",
-                    kKindNames[static_cast<int>(solver.kind()[bad])], solver.id()[bad], t, step);
+                    kKindNames[static_cast<int>(particles.kind[bad])], particles.id[bad], t, step);
       frame.diverge(buf);
     } else if (dt < 1e-3 * first_dt && dt < left) {
       std::snprintf(buf, sizeof buf,
                     "the time step collapsed to %.3g s (%.3g of the first) at t = %.6g s (step %lld): a fluid particle "
                     "reached %.4g m/s",
-                    dt, dt / first_dt, t, step, solver.max_speed());
+                    dt, dt / first_dt, t, step, particles.max_speed());
       frame.diverge(buf);
-    } else if (Index out = solver.first_outside(scene.domain_lo, scene.domain_hi); out >= 0) {
+    } else if (Index out = particles.first_outside(scene.domain_lo, scene.domain_hi); out >= 0) {
       // Thrown out over the walls: removed (fluid.escape = "remove"); through a wall or the floor: diverged.
       if (spec.fluid.escape == "remove") {
-        const Index removed = solver.remove_fluid_outside(scene.domain_lo, scene.domain_hi, scene.up, scene.rim);
+        const Index removed = particles.remove_fluid_outside(scene.domain_lo, scene.domain_hi, scene.up, scene.rim);
         if (removed > 0 && removed_total == 0) first_removal = t;
         removed_total += removed;
         if (removed > 0 && opt.progress)
           std::fprintf(stderr, "[%s] t = %.6g s: %d fluid particle(s) thrown out over the walls were removed (%lld so far)\n",
                        spec.name.c_str(), t, removed, removed_total);
-        out = solver.first_outside(scene.domain_lo, scene.domain_hi);
+        out = particles.first_outside(scene.domain_lo, scene.domain_hi);
       }
       if (out >= 0) {
         std::snprintf(buf, sizeof buf, "fluid particle id %d escaped the tank at t = %.6g s (step %lld), at (%g, %g)",
-                      solver.id()[out], t, step, solver.position()[out][0], solver.position()[out][1]);
+                      particles.id[out], t, step, particles.position[out][0], particles.position[out][1]);
         frame.diverge(buf);
       }
     }
@@ -574,11 +576,11 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
              wcsph->advection_steps() > 0 ? double(wcsph->acoustic_steps()) / wcsph->advection_steps() : 0.0);
     perf.set("wcsph", w);
   }
-  JsonObject particles = particle_counts(initial_fluid, solver.wall_count(), coupling ? coupling->solver().size() : 0);
-  particles.set("fluid_removed", removed_total);
-  if (removed_total > 0) particles.set("fluid_first_removed_at", first_removal);
-  if (solver.wall_count() > 0) wall_contact.write(particles, "wall");
-  frame.finish(D, particles,
+  JsonObject counts = particle_counts(initial_fluid, particles.wall_count(), coupling ? coupling->solver().size() : 0);
+  counts.set("fluid_removed", removed_total);
+  if (removed_total > 0) counts.set("fluid_first_removed_at", first_removal);
+  if (particles.wall_count() > 0) wall_contact.write(counts, "wall");
+  frame.finish(D, counts,
                step, coupling ? coupling->substeps() : 0, t, timer, ppe, perf);
   return frame.result;
 }

@@ -276,7 +276,8 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const
   const Index n = static_cast<Index>(f.x.size());
   const Periodicity<D> period = periodicity<D>(spec.periodic);
   f.dx = dx;
-  f.kernel = SmoothingKernel<D>::make(kernel_type_from_name(spec.kernel.type), spec.kernel.h_factor * dx);
+  f.kernels = KernelTable<D>(SmoothingKernel<D>::make(kernel_type_from_name(spec.kernel.type), spec.kernel.h_factor * dx));
+  f.fluid_level = 0;
   f.kernel_correction = spec.kernel.correction;
   f.period = period;
   f.gravity = to_vec<D>(spec.gravity);
@@ -361,8 +362,8 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const
   }
 
   const std::vector<unsigned char> corner =
-      wall_surface_geometry(f, structure_fixed, dx, f.kernel.support(), period, to_vec<D>(spec.gravity));
-  check_wall_thickness(f, corner, dx, f.kernel.support(), period, file, problems);
+      wall_surface_geometry(f, structure_fixed, dx, f.fluid_kernel().support(), period, to_vec<D>(spec.gravity));
+  check_wall_thickness(f, corner, dx, f.fluid_kernel().support(), period, file, problems);
 
   // Moving walls: where they go and how fast, sampled over the run (for Eq. 49 and the escape box).
   Real wall_speed = 0;
@@ -409,10 +410,10 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const
     // Less one kernel support: a particle that leaves the box sideways within 2h of the walls' top has
     // come over their top corner (the Walhorn obstacle's spray left at 0.16 mm below the top row at
     // 0.649 s); one that leaks through a wall lower down still stops the run.
-    scene.rim -= f.kernel.support();
+    scene.rim -= f.fluid_kernel().support();
   }
   for (int d = 0; d < D; ++d) {
-    const Real margin = f.kernel.support();
+    const Real margin = f.fluid_kernel().support();
     scene.domain_lo[d] = period.axis[d] ? -std::numeric_limits<Real>::max() : lo[d] - margin;
     scene.domain_hi[d] = period.axis[d] ? std::numeric_limits<Real>::max() : hi[d] + margin;
     if (!period.axis[d] && g_norm > 0 && g[d] < 0) scene.domain_hi[d] += hi[d] - lo[d];
@@ -426,7 +427,7 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const
     if (p.type == "pressure" || p.type == "velocity") {
       Real nearest = std::numeric_limits<Real>::max();
       for (Index a = 0; a < n; ++a) nearest = std::min(nearest, norm2(period.delta(point, f.x[a])));
-      if (std::sqrt(nearest) > f.kernel.support())
+      if (std::sqrt(nearest) > f.fluid_kernel().support())
         problems.push_back(file + ": probes[" + std::to_string(pi) + "].point: probe '" + p.name +
                            "' is farther than the kernel support from every fluid and wall particle");
     }

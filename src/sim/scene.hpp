@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "io/case.hpp"
-#include "sim/isph.hpp"
+#include "sim/particle_set.hpp"
 #include "structure/tlsph.hpp"
 
 namespace isph {

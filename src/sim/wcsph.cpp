@@ -33,22 +33,33 @@ Real lattice_kernel_sum(const SmoothingKernel<D>& kernel, Real dx) {
 
 template <int D>
 WcsphSolver<D>::WcsphSolver(FluidSetup<D> s)
-    : Base(s),
+    : particles_(s),
+      exec_(particles_.exec()),
+      density_(s.density),
+      viscosity_(s.viscosity),
+      reference_velocity_(s.reference_velocity),
+      kernel_(s.fluid_kernel()),
+      gravity_(s.gravity),
+      settings_(s.settings),
       advection_courant_(s.settings.wcsph.advection_courant),
       acoustic_courant_(s.settings.wcsph.acoustic_courant),
       limiter_(s.settings.wcsph.riemann_limiter),
       dual_(s.settings.wcsph.time_stepping == "dual_criteria"),
       kernel_correction_(s.kernel_correction) {
-  const Index n = this->size();
+  ParticleSet<D>& ps = particles_;
+  const Index n = ps.size();
   sound_speed_ = s.settings.wcsph.sound_speed > 0 ? s.settings.wcsph.sound_speed
                                                   : 10 * std::sqrt(2.0) * reference_velocity_;
   self_weight_ = kernel_.value(0);
   full_sum_ = lattice_kernel_sum(kernel_, s.dx);
-  rho_ = this->state_array(density_);
-  drho_dt_ = this->state_array(Real{0});
-  for (auto* v : {&acceleration_, &viscous_}) *v = this->state_array(Vec<D>::zero());
-  for (auto* v : {&L_, &Bhat_}) *v = this->state_array(Mat<D>::identity());
-  grad_u_ = this->state_array(Mat<D>::zero());
+  rho_ = ps.array(density_);
+  drho_dt_ = ps.array(Real{0});
+  for (auto* v : {&acceleration_, &viscous_}) *v = ps.array(Vec<D>::zero());
+  for (auto* v : {&L_, &Bhat_}) *v = ps.array(Mat<D>::identity());
+  grad_u_ = ps.array(Mat<D>::zero());
+  for (auto* v : {&rho_, &drho_dt_}) ps.attach(*v);
+  for (auto* v : {&acceleration_, &viscous_}) ps.attach(*v);
+  for (auto* v : {&L_, &Bhat_, &grad_u_}) ps.attach(*v);
 
   // The fluid starts in hydrostatic equilibrium below the highest fluid particle of its column (the
   // lattice column through it, along gravity), p = rho0 |g| depth, rho from Eq. 2.
@@ -63,30 +74,23 @@ WcsphSolver<D>::WcsphSolver(FluidSetup<D> s)
     };
     std::map<std::array<long, D>, Real> top;
     for (Index a = 0; a < n; ++a) {
-      if (kind_[a] != FluidKind::fluid) continue;
-      auto [it, added] = top.emplace(column(x_[a]), dot(x_[a], up));
-      if (!added) it->second = std::max(it->second, dot(x_[a], up));
+      if (particles_.kind[a] != FluidKind::fluid) continue;
+      auto [it, added] = top.emplace(column(particles_.position[a]), dot(particles_.position[a], up));
+      if (!added) it->second = std::max(it->second, dot(particles_.position[a], up));
     }
     for (Index a = 0; a < n; ++a) {
-      if (kind_[a] != FluidKind::fluid) continue;
-      const Real depth = top[column(x_[a])] + 0.5 * s.dx - dot(x_[a], up);
-      p_[a] = density_ * g_norm * depth;
-      rho_[a] = density_ + p_[a] / (sound_speed_ * sound_speed_);
+      if (particles_.kind[a] != FluidKind::fluid) continue;
+      const Real depth = top[column(particles_.position[a])] + 0.5 * s.dx - dot(particles_.position[a], up);
+      particles_.pressure[a] = density_ * g_norm * depth;
+      rho_[a] = density_ + particles_.pressure[a] / (sound_speed_ * sound_speed_);
     }
   }
 }
 
 template <int D>
-void WcsphSolver<D>::permute_work(const Index* order, Index count) {
-  for (auto* v : {&rho_, &drho_dt_}) this->permute(*v, order, count);
-  for (auto* v : {&acceleration_, &viscous_}) this->permute(*v, order, count);
-  for (auto* v : {&L_, &Bhat_, &grad_u_}) this->permute(*v, order, count);
-}
-
-template <int D>
 Real WcsphSolver<D>::time_step() const {
   const Real h = kernel_.h;
-  const Real u = std::max(this->max_speed(), reference_velocity_);
+  const Real u = std::max(particles_.max_speed(), reference_velocity_);
   const Real acoustic = acoustic_courant_ * h / (sound_speed_ + u);  // Eq. 10
   Real dt = dual_ ? advection_courant_ * h / u : acoustic;            // Eq. 9
   if (viscosity_ > 0) dt = std::min(dt, advection_courant_ * h * h / viscosity_);
@@ -97,16 +101,16 @@ Real WcsphSolver<D>::time_step() const {
 template <int D>
 FluidStepReport WcsphSolver<D>::step(Real dt, PhaseTimer& timer, const AcousticHook& hook) {
   configure(dt, timer);
-  const Real u = std::max(this->max_speed(), reference_velocity_);
+  const Real u = std::max(particles_.max_speed(), reference_velocity_);
   const Real acoustic = acoustic_courant_ * kernel_.h / (sound_speed_ + u);
   const long long count = dual_ ? std::max(1LL, static_cast<long long>(std::ceil(dt / acoustic - 1e-9))) : 1;
   const Real h = dt / static_cast<Real>(count);
-  const Real t0 = time_;
+  const Real t0 = particles_.time;
   for (long long k = 0; k < count; ++k) {
-    time_ = t0 + k * h;
+    particles_.time = t0 + k * h;
     acoustic_step(h, timer, hook);
   }
-  time_ = t0 + dt;
+  particles_.time = t0 + dt;
   ++advection_steps_;
   FluidStepReport report;
   report.ppe_solver = "none";
@@ -115,16 +119,16 @@ FluidStepReport WcsphSolver<D>::step(Real dt, PhaseTimer& timer, const AcousticH
 
 template <int D>
 void WcsphSolver<D>::configure(Real dt, PhaseTimer& timer) {
-  const Index n = this->size();
-  if (!motions_.empty()) timer.time("wall_motion", [&] { this->prescribe_walls(dt); });
-  timer.time("neighbours", [&] { this->find_neighbours(); });
-  const FluidView<D> v = this->view();
+  const Index n = particles_.size();
+  if (particles_.has_moving_walls()) timer.time("wall_motion", [&] { particles_.prescribe_walls(dt); });
+  timer.time("neighbours", [&] { particles_.find_neighbours(); });
+  const FluidView<D> v = particles_.view();
   if (dual_)
     timer.time("density", [&] {
       parallel_for(exec_, n, DensityReinitialisation<D>{v, density_, self_weight_, full_sum_,
                                                         settings_.free_surface, rho_.data()});
-      parallel_for(exec_, n, EquationOfState<D>{kind_.data(), nullptr, 0.0, density_, sound_speed_, rho_.data(),
-                                                p_.data()});
+      parallel_for(exec_, n, EquationOfState<D>{particles_.kind.data(), nullptr, 0.0, density_, sound_speed_, rho_.data(),
+                                                particles_.pressure.data()});
       forces_current_ = false;
     });
   if (viscosity_ > 0)
@@ -133,46 +137,46 @@ void WcsphSolver<D>::configure(Real dt, PhaseTimer& timer) {
         parallel_for(exec_, n, GradientCorrection<D>{v.op, L_.data()});
         parallel_for(exec_, n, LaplacianRenormalisation<D>{v.op, L_.data(), Bhat_.data()});
       }
-      parallel_for(exec_, n, VelocityGradient<D>{v, L_.data(), u_.data(), true, 0.0, grad_u_.data(), nullptr});
-      const ViscousAcceleration<D> viscous{v, Bhat_.data(), grad_u_.data(), u_.data(), nullptr, viscosity_,
+      parallel_for(exec_, n, VelocityGradient<D>{v, L_.data(), particles_.velocity.data(), true, 0.0, grad_u_.data(), nullptr});
+      const ViscousAcceleration<D> viscous{v, Bhat_.data(), grad_u_.data(), particles_.velocity.data(), nullptr, viscosity_,
                                            viscous_.data()};
       parallel_for(exec_, n, viscous);
-      if (!motions_.empty()) this->record_viscous_wall_power(viscous);  // held with the acceleration
+      if (particles_.has_moving_walls()) particles_.record_viscous_wall_power(viscous);  // held with the acceleration
     });
   if (!forces_current_) timer.time("pressure_force", [&] { evaluate_forces(); });
 }
 
 template <int D>
 void WcsphSolver<D>::evaluate_forces() {
-  const Index n = this->size();
-  const FluidView<D> v = this->view();
-  parallel_for(exec_, n, BoundaryPressure<D>{v, gravity_, density_, sound_speed_, p_.data(), rho_.data()});
-  parallel_for(exec_, n, RiemannInteraction<D>{v, u_.data(), rho_.data(), p_.data(), density_, sound_speed_, limiter_,
-                                               nullptr, acceleration_.data(), boundary_force_.data()});
+  const Index n = particles_.size();
+  const FluidView<D> v = particles_.view();
+  parallel_for(exec_, n, BoundaryPressure<D>{v, gravity_, density_, sound_speed_, particles_.pressure.data(), rho_.data()});
+  parallel_for(exec_, n, RiemannInteraction<D>{v, particles_.velocity.data(), rho_.data(), particles_.pressure.data(), density_, sound_speed_, limiter_,
+                                               nullptr, acceleration_.data(), particles_.boundary_force.data()});
   forces_current_ = true;
 }
 
 template <int D>
 void WcsphSolver<D>::acoustic_step(Real dt, PhaseTimer& timer, const AcousticHook& hook) {
-  const Index n = this->size();
+  const Index n = particles_.size();
   auto kick = [&] {
-    parallel_for(exec_, n, VerletKick<D>{kind_.data(), acceleration_.data(), viscous_.data(), gravity_, 0.5 * dt,
-                                         u_.data()});
+    parallel_for(exec_, n, VerletKick<D>{particles_.kind.data(), acceleration_.data(), viscous_.data(), gravity_, 0.5 * dt,
+                                         particles_.velocity.data()});
   };
   timer.time("integration", kick);
-  if (hook) hook(time_, dt);
+  if (hook) hook(particles_.time, dt);
   timer.time("integration", [&] {
-    parallel_for(exec_, n, VerletDrift<D>{kind_.data(), u_.data(), wall_velocity_.data(), dt, period_, x_.data()});
+    parallel_for(exec_, n, VerletDrift<D>{particles_.kind.data(), particles_.velocity.data(), particles_.wall_velocity.data(), dt, particles_.period(), particles_.position.data()});
   });
   timer.time("density", [&] {
-    parallel_for(exec_, n, RiemannInteraction<D>{this->view(), u_.data(), rho_.data(), p_.data(), density_,
+    parallel_for(exec_, n, RiemannInteraction<D>{particles_.view(), particles_.velocity.data(), rho_.data(), particles_.pressure.data(), density_,
                                                  sound_speed_, limiter_, drho_dt_.data(), nullptr, nullptr});
-    parallel_for(exec_, n, EquationOfState<D>{kind_.data(), drho_dt_.data(), dt, density_, sound_speed_, rho_.data(),
-                                              p_.data()});
+    parallel_for(exec_, n, EquationOfState<D>{particles_.kind.data(), drho_dt_.data(), dt, density_, sound_speed_, rho_.data(),
+                                              particles_.pressure.data()});
   });
   timer.time("pressure_force", [&] { evaluate_forces(); });
   timer.time("integration", kick);
-  if (!motions_.empty()) wall_work_ += dt * this->moving_wall_power();
+  if (particles_.has_moving_walls()) particles_.wall_work += dt * particles_.moving_wall_power();
   ++acoustic_steps_;
 }
 

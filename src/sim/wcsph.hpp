@@ -32,16 +32,17 @@
 #include <span>
 #include <vector>
 
-#include "sim/fluid_particles.hpp"
+#include "sim/particle_set.hpp"
 
 namespace isph {
 
 template <int D>
-class WcsphSolver : public FluidParticles<D> {
-  using Base = FluidParticles<D>;
-
+class WcsphSolver final : public FluidModel<D> {
  public:
   explicit WcsphSolver(FluidSetup<D> setup);
+
+  ParticleSet<D>& particles() override { return particles_; }
+  const ParticleSet<D>& particles() const override { return particles_; }
 
   // One advection step (dual criteria) or one acoustic step (single criterion).
   Real time_step() const override;
@@ -57,7 +58,7 @@ class WcsphSolver : public FluidParticles<D> {
   // The pressure force per unit volume on the structure particles at the last force evaluation,
   // indexed as in the TLSPH solver, and its sum.
   Vec<D> structure_pressure_force(std::span<Vec<D>> force_density) const {
-    return this->gather_structure_force(force_density);
+    return particles_.gather_structure_force(force_density);
   }
 
   Real sound_speed() const { return sound_speed_; }
@@ -65,16 +66,19 @@ class WcsphSolver : public FluidParticles<D> {
   long long acoustic_steps() const { return acoustic_steps_; }
 
  private:
-  using Base::x_, Base::u_, Base::p_, Base::volume_, Base::kind_, Base::wall_velocity_, Base::boundary_force_,
-      Base::motions_, Base::time_, Base::wall_work_, Base::density_, Base::viscosity_,
-      Base::kernel_, Base::period_, Base::gravity_, Base::settings_, Base::exec_, Base::reference_velocity_;
-  void permute_work(const Index* order, Index count) override;
   // Neighbours, kernel cache, density reinitialisation (dual criteria) and the viscous force.
   void configure(Real dt, PhaseTimer& timer);
   // Boundary pressure, then the pressure force on every particle (acceleration_, boundary_force_).
   void evaluate_forces();
   void acoustic_step(Real dt, PhaseTimer& timer, const AcousticHook& hook);
 
+  ParticleSet<D> particles_;
+  Exec exec_;
+  Real density_, viscosity_, reference_velocity_;
+  SmoothingKernel<D> kernel_;  // the fluid's
+  Vec<D> gravity_;
+  FluidSpec settings_;
+  // work arrays (they follow the particles)
   StateVector<Real> rho_, drho_dt_;
   StateVector<Vec<D>> acceleration_, viscous_;  // pressure acceleration (a^n of Verlet), viscous acceleration
   StateVector<Mat<D>> L_, Bhat_, grad_u_;

@@ -5,7 +5,7 @@
 //
 // Notation: for particle a and neighbour b, r_ab = x_a - x_b, g_ab = grad_a W(r_ab) (no volume),
 // e_ab = -r_ab/|r_ab| the unit vector from a to b, V_b = m_b/rho_b the neighbour's volume.
-#include "sim/fluid_view.hpp"
+#include "kernels/fluid_view.hpp"
 
 namespace isph {
 
@@ -23,7 +23,7 @@ struct DensityReinitialisation {
     if (!v.is_fluid(a)) return;
     Real s = self_weight;
     for (Index k = v.op.nbr_offset[a]; k < v.op.nbr_offset[a + 1]; ++k)
-      s += v.op.kernel.value(sqrt(norm2(v.op.r(a, v.op.nbr[k]))));
+      s += v.op.kernel(a, v.op.nbr[k]).value(sqrt(norm2(v.op.r(a, v.op.nbr[k]))));
     const Real rho_sum = density * s / full_sum;
     rho[a] = free_surface ? fmax(rho[a], rho_sum) : rho_sum;
   }
@@ -49,7 +49,7 @@ struct BoundaryPressure {
       const Index f = v.op.nbr[k];
       if (!v.is_fluid(f)) continue;
       const Vec<D> r = v.op.r(w, f);
-      const Real W = v.op.kernel.value(sqrt(norm2(r)));
+      const Real W = v.op.kernel(w, f).value(sqrt(norm2(r)));
       num += W * (p[f] + rho[f] * dot(g, r));
       den += W;
     }
@@ -94,7 +94,7 @@ struct RiemannInteraction {
     for (Index k = v.op.nbr_offset[a]; k < v.op.nbr_offset[a + 1]; ++k) {
       const Index b = v.op.nbr[k];
       if (!fluid_a && !v.is_fluid(b)) continue;  // boundary particles feel the fluid only
-      const Vec<D> g = v.op.kernel.gradient(v.op.r(a, b));
+      const Vec<D> g = v.op.gradient(a, b, v.op.r(a, b));
       const Real g_len = sqrt(norm2(g));
       if (!(g_len > 0)) continue;
       const Vec<D> e = (1.0 / g_len) * g;  // g_ab = W'(r) r_ab/r = |W'| e_ab (W' < 0)

@@ -1,4 +1,4 @@
-// Walls with prescribed motion (sim/prescribed_motion.hpp), at coarse resolution (seconds): water in
+// Walls with prescribed motion (core/rigid_motion.hpp), at coarse resolution (seconds): water in
 // a tank shaken vertically feels gravity plus the tank's acceleration, and the work the walls do on it
 // closes the energy balance.
 #include <gtest/gtest.h>

@@ -12,7 +12,9 @@
 
 #include "io/case_loader.hpp"
 #include "poisson/ppe_assembly.hpp"
+#include "shifting/particle_shifting.hpp"
 #include "sim/fluid_functors.hpp"
+#include "sim/isph.hpp"
 #include "sim/scene.hpp"
 #include "sim/wcsph.hpp"
 
@@ -104,12 +106,12 @@ TEST(FreeSurface, ClassifiesAKnownBlock) {
   PhaseTimer timer;
   solver.step(1e-6, timer);
   int counted[4] = {0, 0, 0, 0};
-  for (Index a = 0; a < solver.size(); ++a) {
-    if (solver.kind()[a] != FluidKind::fluid) {
+  for (Index a = 0; a < solver.particles().size(); ++a) {
+    if (solver.particles().kind[a] != FluidKind::fluid) {
       EXPECT_EQ(solver.surface_class()[a], SurfaceClass::interior);
       continue;
     }
-    const Vec<2> x = solver.position()[a];
+    const Vec<2> x = solver.particles().position[a];
     SurfaceClass expected = SurfaceClass::interior;
     if (x[1] > 1.0) expected = SurfaceClass::splash;
     else if (x[1] > depth - dx) expected = SurfaceClass::surface;
@@ -205,13 +207,13 @@ TEST(WallGeometry, WallsGatheredAsObstaclesInParticleOrder) {
   IsphSolver<2> solver(std::move(scene.fluid));
   StateVector<Vec<2>> point(3, Vec<2>{{-7.0, -7.0}});  // stale contents, to be replaced
   StateVector<Real> radius(3, -1.0);
-  solver.gather_walls(point, radius);
+  solver.particles().gather_walls(point, radius);
   std::vector<Vec<2>> wall_x;
   std::vector<Real> wall_radius;
-  for (Index a = 0; a < solver.size(); ++a)
-    if (solver.kind()[a] == FluidKind::wall) {
-      wall_x.push_back(solver.position()[a]);
-      wall_radius.push_back(0.5 * std::sqrt(solver.volume()[a]));
+  for (Index a = 0; a < solver.particles().size(); ++a)
+    if (solver.particles().kind[a] == FluidKind::wall) {
+      wall_x.push_back(solver.particles().position[a]);
+      wall_radius.push_back(0.5 * std::sqrt(solver.particles().volume[a]));
     }
   ASSERT_GT(wall_x.size(), 20u);
   ASSERT_EQ(point.size(), wall_x.size());
@@ -237,13 +239,13 @@ TEST(Projection, OneStepGivesHydrostaticPressure) {
   ASSERT_TRUE(report.ppe.converged) << report.ppe.message;
   const Real rho_g_h = 1000 * 9.81 * depth;
   Real lo = 1e300, hi = -1e300, fastest = 0;
-  for (Index a = 0; a < solver.size(); ++a) {
-    if (solver.kind()[a] != FluidKind::fluid) continue;
-    const Vec<2> x = solver.position()[a];
-    const Real offset = (solver.pressure()[a] - 1000 * 9.81 * (depth - x[1])) / rho_g_h;
+  for (Index a = 0; a < solver.particles().size(); ++a) {
+    if (solver.particles().kind[a] != FluidKind::fluid) continue;
+    const Vec<2> x = solver.particles().position[a];
+    const Real offset = (solver.particles().pressure[a] - 1000 * 9.81 * (depth - x[1])) / rho_g_h;
     if (x[1] < depth - 3 * dx) lo = std::min(lo, offset), hi = std::max(hi, offset);
     EXPECT_LT(std::abs(offset), 1e-2) << "particle at (" << x[0] << ", " << x[1] << ")";
-    fastest = std::max(fastest, std::sqrt(norm2(solver.velocity()[a])));
+    fastest = std::max(fastest, std::sqrt(norm2(solver.particles().velocity[a])));
   }
   EXPECT_LT(hi - lo, 5e-4);  // below the surface rows: hydrostatic up to a constant, within 0.05 %
   EXPECT_LT(fastest, 1e-3 * std::sqrt(9.81 * depth));
@@ -462,13 +464,13 @@ TEST(WeaklyCompressible, StillTankStartsHydrostaticAndStaysStill) {
   solver.step(1e-6, timer);
   const Real rho_g_h = 1000 * 9.81 * depth;
   int floor_particles = 0;
-  for (Index a = 0; a < solver.size(); ++a) {
-    const Vec<2> x = solver.position()[a];
-    if (solver.kind()[a] != FluidKind::wall || x[1] > 0 || x[0] < 0.2 || x[0] > 0.8 || x[1] < -0.05) continue;
-    EXPECT_NEAR(solver.pressure()[a], 1000 * 9.81 * (depth - x[1]), 0.005 * rho_g_h) << "at (" << x[0] << ", " << x[1] << ")";
+  for (Index a = 0; a < solver.particles().size(); ++a) {
+    const Vec<2> x = solver.particles().position[a];
+    if (solver.particles().kind[a] != FluidKind::wall || x[1] > 0 || x[0] < 0.2 || x[0] > 0.8 || x[1] < -0.05) continue;
+    EXPECT_NEAR(solver.particles().pressure[a], 1000 * 9.81 * (depth - x[1]), 0.005 * rho_g_h) << "at (" << x[0] << ", " << x[1] << ")";
     ++floor_particles;
   }
   EXPECT_GT(floor_particles, 10);
-  while (solver.time() < 0.2) solver.step(solver.time_step(), timer);
-  EXPECT_LT(solver.max_speed(), 0.01 * std::sqrt(9.81 * depth));
+  while (solver.particles().time < 0.2) solver.step(solver.time_step(), timer);
+  EXPECT_LT(solver.particles().max_speed(), 0.01 * std::sqrt(9.81 * depth));
 }

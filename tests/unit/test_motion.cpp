@@ -1,10 +1,10 @@
-// Prescribed motions (sim/prescribed_motion.hpp): the profile laws, the spline through a motion file,
+// Prescribed motions (core/rigid_motion.hpp): the profile laws, the spline through a motion file,
 // and the rigid-body kinematics of translations and rotations.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "sim/prescribed_motion.hpp"
+#include "core/rigid_motion.hpp"
 
 using namespace isph;
 

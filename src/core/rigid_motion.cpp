@@ -1,4 +1,4 @@
-#include "sim/prescribed_motion.hpp"
+#include "core/rigid_motion.hpp"
 
 #include <algorithm>
 #include <cmath>

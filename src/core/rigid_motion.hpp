@@ -1,14 +1,44 @@
 #pragma once
-// Prescribed rigid motion of walls and of structure clamps (io/case.hpp MotionSpec): the moving tank
-// of a sloshing case, the lifted gate of a dam break, the sliding plate of Couette flow.
+// Prescribed rigid motion of walls and of structure clamps: the moving tank of a sloshing case, the
+// lifted gate of a dam break, the sliding plate of Couette flow. The case file's motion (MotionSpec)
+// is declared here rather than in io/case.hpp, so that the structure solver takes motions without
+// depending on the case description.
+#include <array>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "core/types.hpp"
-#include "io/case.hpp"
 
 namespace isph {
+
+// Prescribed rigid motion of a wall body, or of the clamped particles of a structure body (their
+// clamp moves with it: the baffle of a rolling tank). X is a particle's position as the case file draws
+// it, which is its position at t = 0: the body moves by s(t) - s(0).
+//  "none":              fixed.
+//  "constant_velocity": x = X + velocity t.
+//  "translation":       x = X + (s(t) - s(0)) direction, s in metres.
+//  "rotation" (2D):     x = pivot + R(theta) (X - pivot), theta = s(t) - s(0) in degrees, counter-clockwise.
+// s(t) follows `profile`:
+//  "polynomial": s = sum_k coefficients[k] t^k, held at s(until) after t = until (until = 0: never held);
+//  "sine":       s = amplitude sin(2 pi t / period + phase);
+//  "csv":        rows "time, s" of a file, strictly increasing in time and reaching end_time,
+//                interpolated by a natural cubic spline (so that the velocity and acceleration are
+//                continuous); before the first row the first value holds.
+struct MotionSpec {
+  std::string type = "none";                 // none | constant_velocity | translation | rotation
+  std::array<double, 3> velocity{};          // constant_velocity [m/s]
+  std::array<double, 3> direction{0, 1, 0};  // translation (unit)
+  std::array<double, 3> pivot{};             // rotation
+  std::string profile = "polynomial";        // translation, rotation: polynomial | sine | csv
+  std::vector<double> coefficients;          // polynomial [m or deg, per s^k]
+  double until = 0.0;                        // polynomial [s]
+  double amplitude = 0.0;                    // sine [m or deg]
+  double period = 0.0;                       // sine [s]
+  double phase = 0.0;                        // sine [rad]
+  std::string file;                          // csv: as given, resolved against the case file's folder
+  std::vector<double> times, values;         // csv: the rows, read by the loader
+};
 
 // The scalar law s(t) of a motion and its rate ds/dt (MotionSpec::profile).
 class MotionProfile {

@@ -1,0 +1,339 @@
+#include "sim/particle_set.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "core/ordered_sum.hpp"
+#include "sim/fluid_functors.hpp"
+#include "structure/interaction.hpp"
+
+namespace isph {
+
+namespace {
+
+// Sorting particles by cell keeps neighbours close in memory; positions drift, so re-sort this often.
+constexpr long long kSortInterval = 20;
+
+// A host vector as the state's array (in managed memory on the cuda device).
+template <class T>
+StateVector<T> state_copy(const std::vector<T>& v, bool device_visible) {
+  return StateVector<T>(v.begin(), v.end(), StateAllocator<T>(device_visible));
+}
+
+}  // namespace
+
+template <int D>
+ParticleSet<D>::ParticleSet(FluidSetup<D>& s)
+    : exec_{s.device},
+      motions_(std::move(s.motions)),
+      density_(s.density),
+      dx_(s.dx),
+      kernels_(s.kernels),
+      fluid_level_(s.fluid_level),
+      period_(s.period),
+      gravity_(s.gravity) {
+  if (exec_.device == Device::cuda && cuda_devices() == 0)
+    throw std::runtime_error("--device cuda: no CUDA device is visible (or this build has no CUDA backend)");
+  const std::size_t n = s.x.size();
+  if (s.structure_index.empty()) s.structure_index.assign(n, -1);
+  if (s.motion.empty()) s.motion.assign(n, -1);
+  if (s.level.empty()) s.level.assign(n, static_cast<unsigned char>(s.fluid_level));
+  const bool managed = exec_.device == Device::cuda;
+  position = state_copy(s.x, managed);
+  velocity = state_copy(s.u, managed);
+  volume = state_copy(s.volume, managed);
+  level = state_copy(s.level, managed);
+  wall_depth = state_copy(s.wall_depth, managed);
+  kind = state_copy(s.kind, managed);
+  wall_velocity = state_copy(s.wall_velocity, managed);
+  wall_normal = state_copy(s.wall_normal, managed);
+  reference_normal = wall_normal;
+  id = state_copy(s.id, managed);
+  structure_index = state_copy(s.structure_index, managed);
+  motion = state_copy(s.motion, managed);
+  reference_position = position;
+  wall_acceleration = boundary_force = array(Vec<D>::zero());
+  pressure = array(Real{0});
+  for (auto* v : {&inside_, &permute_scratch_}) *v = StateVector<unsigned char>(allocator<unsigned char>());
+  for (auto* v : {&body_distance_, &body_depth_, &power_density_, &block_sums_}) *v = StateVector<Real>(allocator<Real>());
+  has_structure_ = std::count(s.kind.begin(), s.kind.end(), FluidKind::structure) > 0;
+  fluid_count_ = static_cast<Index>(std::count(s.kind.begin(), s.kind.end(), FluidKind::fluid));
+  wall_count_ = static_cast<Index>(std::count(s.kind.begin(), s.kind.end(), FluidKind::wall));
+  structure_volume_ = StateVector<Real>(allocator<Real>());
+  for (std::size_t k = 0; k < n; ++k)
+    if (const Index i = s.structure_index[k]; i >= 0) {
+      if (structure_volume_.size() <= static_cast<std::size_t>(i)) structure_volume_.resize(i + 1, 0);
+      structure_volume_[i] = s.volume[k];
+    }
+}
+
+template <int D>
+const Index* ParticleSet<D>::neighbour_offset() const {
+  return exec_.device == Device::cuda ? device_neighbours_.offset.data() : neighbours_.offset.data();
+}
+
+template <int D>
+FluidView<D> ParticleSet<D>::view() const {
+  const Index* index = exec_.device == Device::cuda ? device_neighbours_.index.data() : neighbours_.index.data();
+  const OperatorView<D> op{size(), position.data(), volume.data(), neighbour_offset(), index, kernels_, period_,
+                           kernels_.levels > 1 ? level.data() : nullptr};
+  return {op, kind.data(), wall_velocity.data(), wall_acceleration.data(), wall_normal.data(), wall_depth.data(), dx_};
+}
+
+template <int D>
+void ParticleSet<D>::find_neighbours() {
+  build_neighbours(neighbour_searches_++ % kSortInterval == 0);
+}
+
+template <int D>
+void ParticleSet<D>::build_neighbours(bool sort) {
+  const Real radius = kernels_.largest_support();
+  if (exec_.device == Device::cuda) {
+    device_cells_.build(position.data(), size(), radius, period_);
+    if (sort) {
+      reorder(device_cells_.order().data(), size());
+      device_cells_.build(position.data(), size(), radius, period_);
+    }
+    device_neighbours_ = device_neighbour_list(device_cells_, size(), nullptr, kernels_.reach(level.data()));
+    return;
+  }
+  cells_.build(position, radius, period_);
+  if (sort) {
+    reorder(cells_.order().data(), size());
+    cells_.build(position, radius, period_);
+  }
+  neighbours_ = neighbour_list(cells_, size(), nullptr, kernels_.reach(level.data()));
+}
+
+template <int D>
+void ParticleSet<D>::reorder(const Index* order, Index count) {
+  for (auto* v : {&position, &velocity, &wall_velocity, &wall_acceleration, &wall_normal, &reference_normal,
+                  &reference_position, &boundary_force})
+    permute(*v, order, count);
+  for (auto* v : {&pressure, &volume, &wall_depth}) permute(*v, order, count);
+  for (auto* v : {&id, &structure_index, &motion}) permute(*v, order, count);
+  permute(kind, order, count);
+  permute(level, order, count);
+  for (const auto& follow : followers_) follow(order, count);
+}
+
+template <int D>
+Index ParticleSet<D>::remove_fluid_outside(const Vec<D>& lo, const Vec<D>& hi, const Vec<D>& up, Real rim) {
+  StateVector<Index> keep(allocator<Index>());
+  keep.reserve(position.size());
+  const FluidOutsideBox<D> outside{kind.data(), position.data(), lo, hi};
+  for (Index a = 0; a < size(); ++a)
+    if (!outside(a) || !(dot(position[a], up) > rim)) keep.push_back(a);
+  const Index removed = size() - static_cast<Index>(keep.size());
+  if (removed > 0) {
+    reorder(keep.data(), static_cast<Index>(keep.size()));
+    fluid_count_ -= removed;
+    build_neighbours(false);  // no stale list between now and the next step
+  }
+  return removed;
+}
+
+template <int D>
+void ParticleSet<D>::restore(const SnapshotData& snapshot) {
+  const SnapshotField &kinds = snapshot.field("kind"), &x = snapshot.field("position"), &u = snapshot.field("velocity"),
+                      &p = snapshot.field("pressure");
+  const std::vector<long long> row = snapshot.rows_by_id();
+  const auto mismatch = [&](const std::string& what) {
+    return std::runtime_error("restart: " + snapshot.path + " is not a snapshot of this case: " + what);
+  };
+  StateVector<Index> keep(allocator<Index>());
+  for (Index a = 0; a < size(); ++a) {
+    const long long r = static_cast<std::size_t>(id[a]) < row.size() ? row[id[a]] : -1;
+    if (r < 0) {  // fluid the earlier run removed; every wall and structure particle must be there
+      if (kind[a] != FluidKind::fluid) throw mismatch("it lacks the wall or structure particle id " + std::to_string(id[a]));
+      continue;
+    }
+    if (kinds.data[r] != static_cast<double>(kind[a]))
+      throw mismatch("particle id " + std::to_string(id[a]) + " is of another kind there");
+    position[a] = snapshot_vector<D>(x, r);
+    velocity[a] = snapshot_vector<D>(u, r);
+    pressure[a] = p.data[r];
+    keep.push_back(a);
+  }
+  if (keep.size() != snapshot.size())
+    throw mismatch("it has " + std::to_string(snapshot.size() - keep.size()) + " particles whose ids this case lacks");
+  if (const Index removed = size() - static_cast<Index>(keep.size()); removed > 0) {
+    reorder(keep.data(), static_cast<Index>(keep.size()));
+    fluid_count_ -= removed;
+  }
+  time = snapshot.time;
+  const auto work = snapshot.attributes.find("wall_work");
+  wall_work = work != snapshot.attributes.end() ? work->second : 0;
+}
+
+template <int D>
+void ParticleSet<D>::prescribe_walls(Real dt) {
+  parallel_for(exec_, size(), PrescribeWalls<D>{motion.data(), poses_at(motions_, time), poses_at(motions_, time + dt), reference_position.data(),
+                                                reference_normal.data(), dt, period_, position.data(), velocity.data(),
+                                                wall_velocity.data(), wall_acceleration.data(), wall_normal.data()});
+}
+
+template <int D>
+void ParticleSet<D>::gather_walls(StateVector<Vec<D>>& point, StateVector<Real>& radius) const {
+  const Index n = size();
+  if (wall_slot_.size() != static_cast<std::size_t>(n) + 1)
+    wall_slot_ = StateVector<Index>(static_cast<std::size_t>(n) + 1, 0, allocator<Index>());
+  parallel_for(exec_, n, MarkWalls{kind.data(), wall_slot_.data()});
+  inclusive_scan(exec_, wall_slot_.data() + 1, n);
+  resize_for_overwrite(point, wall_slot_[n]);  // the number of walls: one value back from the device
+  resize_for_overwrite(radius, wall_slot_[n]);
+  parallel_for(exec_, n, GatherWalls<D>{kind.data(), position.data(), volume.data(), wall_slot_.data(), point.data(), radius.data()});
+}
+
+template <int D>
+Vec<D> ParticleSet<D>::gather_structure_force(std::span<Vec<D>> force_density) const {
+  parallel_for(exec_, size(), ScatterStructureForce<D>{structure_index.data(), boundary_force.data(), force_density.data()});
+  Vec<D> total;
+  for (int d = 0; d < D; ++d)
+    total[d] = ordered_sum(exec_, static_cast<Index>(structure_volume_.size()),
+                           ForceComponent<D>{structure_volume_.data(), force_density.data(), d}, block_sums_);
+  return total;
+}
+
+// Power of the moving walls on the fluid: their pressure force's, sum_w -V_w f_w · u_w, and their
+// viscous traction's.
+template <int D>
+Real ParticleSet<D>::moving_wall_power() const {
+  return viscous_wall_power_ +
+         ordered_sum(exec_, size(), MovingWallPressurePower<D>{motion.data(), volume.data(), boundary_force.data(),
+                                                               wall_velocity.data()}, block_sums_);
+}
+
+template <int D>
+void ParticleSet<D>::record_viscous_wall_power(const ViscousAcceleration<D>& viscous) {
+  power_density_.resize(position.size());
+  parallel_for(exec_, size(), ViscousWallPower<D>{viscous, density_, power_density_.data()});
+  viscous_wall_power_ = ordered_sum(exec_, size(), ScalarAt{power_density_.data()}, block_sums_);
+}
+
+template <int D>
+void ParticleSet<D>::move_structure(std::span<const Vec<D>> x, std::span<const Vec<D>> v,
+                                       std::span<const Mat<D>> F) {
+  parallel_for(exec_, size(), FollowStructure<D>{structure_index.data(), x.data(), v.data(), F.data(),
+                                                 reference_normal.data(), position.data(), velocity.data(), wall_velocity.data(),
+                                                 wall_normal.data()});
+}
+
+template <int D>
+void ParticleSet<D>::follow_structure_acceleration(std::span<const Vec<D>> a) {
+  parallel_for(exec_, size(), FollowStructureAcceleration<D>{structure_index.data(), a.data(), wall_acceleration.data()});
+}
+
+template <int D>
+InteractionReport<D> ParticleSet<D>::contact(FluidKind body) {
+  const Index n = size();
+  inside_.resize(n);
+  body_distance_.resize(n);
+  body_depth_.resize(n);
+  parallel_for(exec_, n, BodyContact<D>{view(), body, inside_.data(), body_distance_.data(), body_depth_.data()});
+  InteractionReport<D> report;
+  report.fluid_inside = parallel_reduce(exec_, n, Index{0}, Flagged{inside_.data()}, IntegerSum{});
+  const Real nearest = parallel_reduce(exec_, n, kOutOfReach, ScalarAt{body_distance_.data()}, MinOf{});
+  report.min_distance = nearest < kOutOfReach ? nearest : std::numeric_limits<Real>::infinity();
+  report.max_depth = parallel_reduce(exec_, n, Real{0}, ScalarAt{body_depth_.data()}, MaxOf{});
+  if (report.fluid_inside > 0) report.inside_at = position[lowest_id_particle(exec_, n, Flagged{inside_.data()}, id.data())];
+  return report;
+}
+
+template <int D>
+void ContactRecord<D>::add(const InteractionReport<D>& step, Real t) {
+  if (step.fluid_inside > 0) {
+    if (steps_with_inside_++ == 0) first_inside_time_ = t;
+    if (step.fluid_inside > max_inside_) worst_inside_time_ = t, worst_inside_at_ = step.inside_at;
+  }
+  max_inside_ = std::max(max_inside_, step.fluid_inside);
+  min_distance_ = std::min(min_distance_, step.min_distance);
+  max_depth_ = std::max(max_depth_, step.max_depth);
+}
+
+template <int D>
+void ContactRecord<D>::write(JsonObject& o, const std::string& body) const {
+  o.set("fluid_inside_" + body + "_max", static_cast<long long>(max_inside_))
+      .set("steps_with_fluid_inside_" + body, steps_with_inside_)
+      .set("min_fluid_" + body + "_distance", std::isfinite(min_distance_) ? min_distance_ : -1.0)
+      .set("max_fluid_" + body + "_depth", max_depth_);
+  if (steps_with_inside_ == 0) return;
+  JsonObject at;
+  for (int d = 0; d < D; ++d) at.set(d == 0 ? "x" : d == 1 ? "y" : "z", worst_inside_at_[d]);
+  o.set("first_fluid_inside_" + body + "_time", first_inside_time_)
+      .set("max_fluid_inside_" + body + "_time", worst_inside_time_)
+      .set("max_fluid_inside_" + body + "_at", at);
+}
+
+template <int D>
+Real ParticleSet<D>::max_speed() const {
+  return std::sqrt(parallel_reduce(exec_, size(), Real{0}, FluidSpeed2<D>{kind.data(), velocity.data()}, MaxOf{}));
+}
+
+template <int D>
+Real ParticleSet<D>::kinetic_energy() const {
+  Real e = 0;
+  for (Index a = 0; a < size(); ++a)
+    if (kind[a] == FluidKind::fluid) e += 0.5 * density_ * volume[a] * norm2(velocity[a]);
+  return e;
+}
+
+template <int D>
+Real ParticleSet<D>::potential_energy() const {
+  Real e = 0;
+  for (Index a = 0; a < size(); ++a)
+    if (kind[a] == FluidKind::fluid) e -= density_ * volume[a] * dot(gravity_, position[a]);
+  return e;
+}
+
+template <int D>
+Real ParticleSet<D>::interpolate_pressure(const Vec<D>& point) const {
+  Real num = 0, den = 0;
+  for (Index b = 0; b < size(); ++b) {
+    const Real w = volume[b] * kernels_.pair(fluid_level_, level[b]).value(std::sqrt(norm2(period_.delta(point, position[b]))));
+    num += w * pressure[b];
+    den += w;
+  }
+  return den > 0 ? num / den : 0;
+}
+
+template <int D>
+Vec<D> ParticleSet<D>::interpolate_velocity(const Vec<D>& point) const {
+  Vec<D> num = Vec<D>::zero();
+  Real den = 0;
+  for (Index b = 0; b < size(); ++b) {
+    if (kind[b] != FluidKind::fluid) continue;
+    const Real w = volume[b] * kernels_.pair(fluid_level_, level[b]).value(std::sqrt(norm2(period_.delta(point, position[b]))));
+    num += w * velocity[b];
+    den += w;
+  }
+  return den > 0 ? (1.0 / den) * num : Vec<D>::zero();
+}
+
+template <int D>
+Real ParticleSet<D>::front(Real height) const {
+  Real best = -std::numeric_limits<Real>::infinity();
+  for (Index a = 0; a < size(); ++a)
+    if (kind[a] == FluidKind::fluid && position[a][D - 1] < height) best = std::max(best, position[a][0]);
+  return best;
+}
+
+template <int D>
+Index ParticleSet<D>::first_non_finite() const {
+  return first_particle(exec_, size(), NonFiniteState<D>{position.data(), velocity.data(), pressure.data()});
+}
+
+template <int D>
+Index ParticleSet<D>::first_outside(const Vec<D>& lo, const Vec<D>& hi) const {
+  return first_particle(exec_, size(), FluidOutsideBox<D>{kind.data(), position.data(), lo, hi});
+}
+
+template class ParticleSet<2>;
+template class ParticleSet<3>;
+template class ContactRecord<2>;
+template class ContactRecord<3>;
+
+}  // namespace isph
