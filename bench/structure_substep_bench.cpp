@@ -53,7 +53,7 @@ TlsphSetup<2> block(double particles) {
   const Real E = 6.8e10, nu = 0.34, rho = 2700;
   const Real mu = E / (2 * (1 + nu)), lambda_plane_stress = E * nu / (1 - nu * nu);
   s.materials.push_back({rho, lambda_plane_stress, mu, E});
-  s.kernel = SmoothingKernel<2>::make(KernelType::cubic_spline, 1.2 * dx);
+  s.kernels = SmoothingKernel<2>::make(KernelType::cubic_spline, 1.2 * dx);
   s.hourglass = 0.5;
   s.gravity = {{0.0, -9.81}};
   return s;

@@ -85,13 +85,127 @@ class HypreSolver final : public KrylovSolverFrame {
     MPI_Comm_size(MPI_COMM_WORLD, &ranks);
     if (ranks != 1)
       return "the hypre backend runs on one MPI rank, MPI_COMM_WORLD has " + std::to_string(ranks);
+    n_ = A.rows;
+    HYPRE_ClearAllErrors();
+    build_matrix(A);
+
+    // Vectors.
+    make_vector(ij_b_, b_, b.data());
+    make_vector(ij_x_, x_, nullptr);
+    if (HYPRE_Int e = HYPRE_GetError(); e) return "building the ParCSR system: " + describe(e);
+
+    // Preconditioner.
+    HYPRE_PtrToParSolverFcn precond = nullptr, precond_setup = nullptr;
+    precond_ = nullptr;
+    if (settings_.preconditioner == "boomeramg") {
+      HYPRE_BoomerAMGCreate(&amg_);
+      HYPRE_BoomerAMGSetCoarsenType(amg_, 10);         // HMIS
+      HYPRE_BoomerAMGSetInterpType(amg_, 6);           // extended+i
+      HYPRE_BoomerAMGSetPMaxElmts(amg_, 4);            // interpolation truncated to 4 entries per row
+      HYPRE_BoomerAMGSetStrongThreshold(amg_, 0.25);   // 2D
+      HYPRE_BoomerAMGSetCycleRelaxType(amg_, 13, 1);   // l1 Gauss-Seidel forward on the way down,
+      HYPRE_BoomerAMGSetCycleRelaxType(amg_, 14, 2);   // backward on the way up,
+      HYPRE_BoomerAMGSetCycleRelaxType(amg_, 9, 3);    // Gaussian elimination on the coarsest level
+      HYPRE_BoomerAMGSetNumSweeps(amg_, 1);
+      HYPRE_BoomerAMGSetMaxIter(amg_, 1);              // one V-cycle per application
+      HYPRE_BoomerAMGSetTol(amg_, 0.0);
+      HYPRE_BoomerAMGSetPrintLevel(amg_, 0);
+      precond = HYPRE_BoomerAMGSolve;
+      precond_setup = HYPRE_BoomerAMGSetup;
+      precond_ = precond;
+    } else if (settings_.preconditioner == "jacobi") {
+      precond = HYPRE_ParCSRDiagScale;
+      precond_setup = HYPRE_ParCSRDiagScaleSetup;
+    }
+
+    // Krylov method; its Setup also sets up the preconditioner.
+    make_krylov(precond, precond_setup);
+    const HYPRE_Int e = HYPRE_GetError();
+    HYPRE_ClearAllErrors();
+    if (e) return "setting up " + settings_.preconditioner + ": " + describe(e);
+    return "";
+  }
+
+  // A new matrix of the same size under the BoomerAMG hierarchy of the last setup: the matrix that
+  // hierarchy was built from is kept alive beside the new one, and the new Krylov solver takes the
+  // hierarchy as it is (a set-up function that does nothing). Only for BoomerAMG, whose set-up is most
+  // of a small system's solve (docs/SOLVERS.md).
+  bool refresh_matrix(const CsrMatrix& A, std::span<const double> b) override {
+    if (!amg_ || A.rows != n_) return false;
+    (gmres() ? HYPRE_ParCSRGMRESDestroy : HYPRE_ParCSRBiCGSTABDestroy)(krylov_);
+    krylov_ = nullptr;
+    if (setup_ij_A_) HYPRE_IJMatrixDestroy(ij_A_);  // a refreshed matrix: the setup's stays
+    else setup_ij_A_ = ij_A_;
+    ij_A_ = nullptr;
+    HYPRE_ClearAllErrors();
+    build_matrix(A);
+    update_rhs(b);
+    make_krylov(precond_, keep_hierarchy);
+    const HYPRE_Int e = HYPRE_GetError();
+    HYPRE_ClearAllErrors();
+    return e == 0;
+  }
+
+  Pass iterate(std::span<double> x, double tol, int max_iterations) override {
+    HYPRE_IJVectorSetValues(ij_x_, n_, rows_.data(), x.data());
+    HYPRE_IJVectorAssemble(ij_x_);
+    HYPRE_Int iterations = 0, code = 0;
+    if (gmres()) {
+      HYPRE_ParCSRGMRESSetTol(krylov_, tol);
+      HYPRE_ParCSRGMRESSetMaxIter(krylov_, max_iterations);
+      code = HYPRE_ParCSRGMRESSolve(krylov_, A_, b_, x_);
+      HYPRE_ParCSRGMRESGetNumIterations(krylov_, &iterations);
+    } else {
+      HYPRE_ParCSRBiCGSTABSetTol(krylov_, tol);
+      HYPRE_ParCSRBiCGSTABSetMaxIter(krylov_, max_iterations);
+      code = HYPRE_ParCSRBiCGSTABSolve(krylov_, A_, b_, x_);
+      HYPRE_ParCSRBiCGSTABGetNumIterations(krylov_, &iterations);
+    }
+    HYPRE_ClearAllErrors();
+    HYPRE_IJVectorGetValues(ij_x_, n_, rows_.data(), x.data());
+    Pass p;
+    p.iterations = iterations;
+    p.claimed_converged = code == 0;
+    if (code && !HYPRE_CheckError(code, HYPRE_ERROR_CONV)) p.note = describe(code);
+    return p;
+  }
+
+  void update_rhs(std::span<const double> b) override {
+    HYPRE_IJVectorSetValues(ij_b_, n_, rows_.data(), b.data());
+    HYPRE_IJVectorAssemble(ij_b_);
+    HYPRE_IJVectorGetObject(ij_b_, reinterpret_cast<void**>(&b_));
+  }
+
+  void release() override {
+    if (krylov_) (gmres() ? HYPRE_ParCSRGMRESDestroy : HYPRE_ParCSRBiCGSTABDestroy)(krylov_);
+    if (amg_) HYPRE_BoomerAMGDestroy(amg_);
+    if (ij_x_) HYPRE_IJVectorDestroy(ij_x_);
+    if (ij_b_) HYPRE_IJVectorDestroy(ij_b_);
+    if (ij_A_) HYPRE_IJMatrixDestroy(ij_A_);
+    if (setup_ij_A_) HYPRE_IJMatrixDestroy(setup_ij_A_);
+    krylov_ = amg_ = nullptr;
+    ij_x_ = ij_b_ = nullptr;
+    ij_A_ = setup_ij_A_ = nullptr;
+    A_ = nullptr;
+    b_ = x_ = nullptr;
+    rows_ = {};
+  }
+
+  // hypre's GMRES and BiCGSTAB stop on ||r|| <= tol ||b||.
+  bool tolerance_relative_to_initial_residual() const override { return false; }
+
+ private:
+  bool gmres() const { return settings_.method == "gmres"; }
+
+  // A set-up that keeps the hierarchy as it is (refresh_matrix).
+  static HYPRE_Int keep_hierarchy(HYPRE_Solver, HYPRE_ParCSRMatrix, HYPRE_ParVector, HYPRE_ParVector) { return 0; }
+
+  // The ParCSR copy of A. BoomerAMG and the Jacobi scaling take the first entry of each ParCSR row as
+  // its diagonal, which hypre guarantees only for rows that store one: explicit zeros are added where
+  // it is missing.
+  void build_matrix(const CsrMatrix& A) {
     const MPI_Comm comm = MPI_COMM_WORLD;
     const int n = A.rows;
-    n_ = n;
-    HYPRE_ClearAllErrors();
-
-    // Matrix. BoomerAMG and the Jacobi scaling take the first entry of each ParCSR row as its diagonal,
-    // which hypre guarantees only for rows that store one: add explicit zeros where it is missing.
     HYPRE_IJMatrixCreate(comm, 0, n - 1, 0, n - 1, &ij_A_);
     HYPRE_IJMatrixSetObjectType(ij_A_, HYPRE_PARCSR);
     std::vector<HYPRE_Int> ncols(n), offd(n, 0);
@@ -133,35 +247,12 @@ class HypreSolver final : public KrylovSolverFrame {
     }
     HYPRE_IJMatrixAssemble(ij_A_);
     HYPRE_IJMatrixGetObject(ij_A_, reinterpret_cast<void**>(&A_));
+  }
 
-    // Vectors.
-    make_vector(ij_b_, b_, b.data());
-    make_vector(ij_x_, x_, nullptr);
-    if (HYPRE_Int e = HYPRE_GetError(); e) return "building the ParCSR system: " + describe(e);
-
-    // Preconditioner.
-    HYPRE_PtrToParSolverFcn precond = nullptr, precond_setup = nullptr;
-    if (settings_.preconditioner == "boomeramg") {
-      HYPRE_BoomerAMGCreate(&amg_);
-      HYPRE_BoomerAMGSetCoarsenType(amg_, 10);         // HMIS
-      HYPRE_BoomerAMGSetInterpType(amg_, 6);           // extended+i
-      HYPRE_BoomerAMGSetPMaxElmts(amg_, 4);            // interpolation truncated to 4 entries per row
-      HYPRE_BoomerAMGSetStrongThreshold(amg_, 0.25);   // 2D
-      HYPRE_BoomerAMGSetCycleRelaxType(amg_, 13, 1);   // l1 Gauss-Seidel forward on the way down,
-      HYPRE_BoomerAMGSetCycleRelaxType(amg_, 14, 2);   // backward on the way up,
-      HYPRE_BoomerAMGSetCycleRelaxType(amg_, 9, 3);    // Gaussian elimination on the coarsest level
-      HYPRE_BoomerAMGSetNumSweeps(amg_, 1);
-      HYPRE_BoomerAMGSetMaxIter(amg_, 1);              // one V-cycle per application
-      HYPRE_BoomerAMGSetTol(amg_, 0.0);
-      HYPRE_BoomerAMGSetPrintLevel(amg_, 0);
-      precond = HYPRE_BoomerAMGSolve;
-      precond_setup = HYPRE_BoomerAMGSetup;
-    } else if (settings_.preconditioner == "jacobi") {
-      precond = HYPRE_ParCSRDiagScale;
-      precond_setup = HYPRE_ParCSRDiagScaleSetup;
-    }
-
-    // Krylov method; its Setup also sets up the preconditioner.
+  // The Krylov method over A_, preconditioned by `precond` (none: unpreconditioned); its Setup calls
+  // precond_setup.
+  void make_krylov(HYPRE_PtrToParSolverFcn precond, HYPRE_PtrToParSolverFcn precond_setup) {
+    const MPI_Comm comm = MPI_COMM_WORLD;
     if (gmres()) {
       HYPRE_ParCSRGMRESCreate(comm, &krylov_);
       HYPRE_ParCSRGMRESSetKDim(krylov_, settings_.gmres_restart);
@@ -180,61 +271,7 @@ class HypreSolver final : public KrylovSolverFrame {
       if (precond) HYPRE_ParCSRBiCGSTABSetPrecond(krylov_, precond, precond_setup, amg_);
       HYPRE_ParCSRBiCGSTABSetup(krylov_, A_, b_, x_);
     }
-    const HYPRE_Int e = HYPRE_GetError();
-    HYPRE_ClearAllErrors();
-    if (e) return "setting up " + settings_.preconditioner + ": " + describe(e);
-    return "";
   }
-
-  Pass iterate(std::span<double> x, double tol, int max_iterations) override {
-    HYPRE_IJVectorSetValues(ij_x_, n_, rows_.data(), x.data());
-    HYPRE_IJVectorAssemble(ij_x_);
-    HYPRE_Int iterations = 0, code = 0;
-    if (gmres()) {
-      HYPRE_ParCSRGMRESSetTol(krylov_, tol);
-      HYPRE_ParCSRGMRESSetMaxIter(krylov_, max_iterations);
-      code = HYPRE_ParCSRGMRESSolve(krylov_, A_, b_, x_);
-      HYPRE_ParCSRGMRESGetNumIterations(krylov_, &iterations);
-    } else {
-      HYPRE_ParCSRBiCGSTABSetTol(krylov_, tol);
-      HYPRE_ParCSRBiCGSTABSetMaxIter(krylov_, max_iterations);
-      code = HYPRE_ParCSRBiCGSTABSolve(krylov_, A_, b_, x_);
-      HYPRE_ParCSRBiCGSTABGetNumIterations(krylov_, &iterations);
-    }
-    HYPRE_ClearAllErrors();
-    HYPRE_IJVectorGetValues(ij_x_, n_, rows_.data(), x.data());
-    Pass p;
-    p.iterations = iterations;
-    p.claimed_converged = code == 0;
-    if (code && !HYPRE_CheckError(code, HYPRE_ERROR_CONV)) p.note = describe(code);
-    return p;
-  }
-
-  void update_rhs(std::span<const double> b) override {
-    HYPRE_IJVectorSetValues(ij_b_, n_, rows_.data(), b.data());
-    HYPRE_IJVectorAssemble(ij_b_);
-    HYPRE_IJVectorGetObject(ij_b_, reinterpret_cast<void**>(&b_));
-  }
-
-  void release() override {
-    if (krylov_) (gmres() ? HYPRE_ParCSRGMRESDestroy : HYPRE_ParCSRBiCGSTABDestroy)(krylov_);
-    if (amg_) HYPRE_BoomerAMGDestroy(amg_);
-    if (ij_x_) HYPRE_IJVectorDestroy(ij_x_);
-    if (ij_b_) HYPRE_IJVectorDestroy(ij_b_);
-    if (ij_A_) HYPRE_IJMatrixDestroy(ij_A_);
-    krylov_ = amg_ = nullptr;
-    ij_x_ = ij_b_ = nullptr;
-    ij_A_ = nullptr;
-    A_ = nullptr;
-    b_ = x_ = nullptr;
-    rows_ = {};
-  }
-
-  // hypre's GMRES and BiCGSTAB stop on ||r|| <= tol ||b||.
-  bool tolerance_relative_to_initial_residual() const override { return false; }
-
- private:
-  bool gmres() const { return settings_.method == "gmres"; }
 
   void make_vector(HYPRE_IJVector& ij, HYPRE_ParVector& par, const double* values) {
     HYPRE_IJVectorCreate(MPI_COMM_WORLD, 0, n_ - 1, &ij);
@@ -247,7 +284,8 @@ class HypreSolver final : public KrylovSolverFrame {
 
   int n_ = 0;
   std::vector<HYPRE_BigInt> rows_;
-  HYPRE_IJMatrix ij_A_ = nullptr;
+  HYPRE_IJMatrix ij_A_ = nullptr, setup_ij_A_ = nullptr;  // the matrix, and the one BoomerAMG was set up from (when refreshed)
+  HYPRE_PtrToParSolverFcn precond_ = nullptr;
   HYPRE_IJVector ij_b_ = nullptr, ij_x_ = nullptr;
   HYPRE_ParCSRMatrix A_ = nullptr;
   HYPRE_ParVector b_ = nullptr, x_ = nullptr;

@@ -248,10 +248,10 @@ double relative_residual(const CsrMatrix& A, std::span<const double> b, std::spa
 }
 
 SolveReport LinearSolver::solve(const CsrMatrix& A, const std::vector<double>& b, std::vector<double>& x,
-                                bool same_matrix) {
-  if (!x.empty()) return solve(A, std::span<const double>(b), std::span<double>(x), same_matrix);
+                                MatrixReuse reuse) {
+  if (!x.empty()) return solve(A, std::span<const double>(b), std::span<double>(x), reuse);
   std::vector<double> zero_guess(static_cast<std::size_t>(std::max(A.rows, 0)), 0.0);  // x stays empty if this throws
-  const SolveReport report = solve(A, std::span<const double>(b), std::span<double>(zero_guess), same_matrix);
+  const SolveReport report = solve(A, std::span<const double>(b), std::span<double>(zero_guess), reuse);
   x.swap(zero_guess);
   return report;
 }
@@ -271,7 +271,7 @@ std::string KrylovSolverFrame::name() const {
 }
 
 SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, std::span<const double> b, std::span<double> x,
-                                     bool same_matrix) {
+                                     MatrixReuse reuse) {
   const auto start = std::chrono::steady_clock::now();
   // The frame's loops run on the backend's device when the caller's arrays live there (the fluid's, in
   // managed memory), else on the host (a test's or a benchmark's std::vectors).
@@ -281,7 +281,8 @@ SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, std::span<const doub
                          ? exec_device_
                          : Exec{};
   check_system(exec, A_in, b, x);
-  if (!same_matrix && prepared_) {
+  kept_preconditioner_ = false;
+  if (reuse == MatrixReuse::none && prepared_) {
     release();
     prepared_ = false;
   }
@@ -341,9 +342,15 @@ SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, std::span<const doub
     return done(notes + "the initial guess meets the tolerance");
   }
 
-  if (prepared_) {
+  if (prepared_ && reuse == MatrixReuse::all) {
     update_rhs(b);
+  } else if (prepared_ && refresh_matrix(A, b)) {
+    kept_preconditioner_ = true;
   } else {
+    if (prepared_) {
+      release();
+      prepared_ = false;
+    }
     struct ReleaseOnThrow {
       KrylovSolverFrame* self;
       bool armed = true;

@@ -55,6 +55,15 @@ struct SolveReport {
   std::string message;
 };
 
+// What a solve may keep from the solver's previous call (LinearSolver::solve).
+//  none:           A is new: a new copy and a new preconditioner.
+//  preconditioner: A is new, but of the same size and unknown order as the matrix the last preconditioner
+//                  was built for, and close to it (the next step's PPE, before the particles are
+//                  re-sorted): the backend takes the new A and may keep that preconditioner (hypre's
+//                  BoomerAMG hierarchy); a backend that cannot builds a new one.
+//  all:            A is the matrix of the previous call; only b changed.
+enum class MatrixReuse { none, preconditioner, all };
+
 class LinearSolver {
  public:
   virtual ~LinearSolver() = default;
@@ -63,13 +72,14 @@ class LinearSolver {
   // iterations, message). Throws std::invalid_argument on a malformed matrix or mismatched sizes.
   // b = 0 gives x = 0. A non-finite initial guess is replaced by zero. When the solver produces a
   // non-finite x, x is restored to the initial guess and the report says so.
-  // same_matrix: A is the matrix of the previous call (only b changed), so the copy of A and the
-  // preconditioner built then are used again.
+  // reuse: what the call may keep from the previous one (MatrixReuse).
   virtual SolveReport solve(const CsrMatrix& A, std::span<const double> b, std::span<double> x,
-                            bool same_matrix = false) = 0;
+                            MatrixReuse reuse = MatrixReuse::none) = 0;
   // The same for std::vectors, where an empty x means a zero guess (x is then resized to A.rows).
   SolveReport solve(const CsrMatrix& A, const std::vector<double>& b, std::vector<double>& x,
-                    bool same_matrix = false);
+                    MatrixReuse reuse = MatrixReuse::none);
+  // Whether the last solve kept an earlier preconditioner for a new matrix (MatrixReuse::preconditioner).
+  virtual bool kept_preconditioner() const { return false; }
   virtual std::string name() const = 0;  // e.g. "eigen-bicgstab-ilu", "hypre-gmres-boomeramg"
 };
 
@@ -107,8 +117,9 @@ class KrylovSolverFrame : public LinearSolver {
   explicit KrylovSolverFrame(const SolverSettings& settings, Exec exec = {});
   using LinearSolver::solve;  // the std::vector overload
   SolveReport solve(const CsrMatrix& A, std::span<const double> b, std::span<double> x,
-                    bool same_matrix = false) final;
+                    MatrixReuse reuse = MatrixReuse::none) final;
   std::string name() const final;
+  bool kept_preconditioner() const final { return kept_preconditioner_; }
 
  protected:
   struct Pass {
@@ -122,6 +133,9 @@ class KrylovSolverFrame : public LinearSolver {
   virtual std::string setup(const CsrMatrix& A, std::span<const double> b) = 0;
   // Replaces b, keeping A and the preconditioner of the last setup.
   virtual void update_rhs(std::span<const double> b) = 0;
+  // Replaces A (same size) and b, keeping the preconditioner of the last setup; false where the backend
+  // cannot (the frame then releases and sets up afresh).
+  virtual bool refresh_matrix(const CsrMatrix&, std::span<const double>) { return false; }
   // Runs the Krylov method from x (in/out) until its own residual estimate falls below tol (relative
   // to ||b||, or to the initial residual of this pass when tolerance_relative_to_initial_residual())
   // or after max_iterations iterations.
@@ -135,6 +149,7 @@ class KrylovSolverFrame : public LinearSolver {
 
  private:
   bool prepared_ = false;  // a setup() is in place
+  bool kept_preconditioner_ = false;
   Exec exec_device_;  // the backend's device
   StateVector<double> x0_, squares_, b_squares_, partial_;  // the initial guess; the residual's work arrays
 };

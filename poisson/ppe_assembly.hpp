@@ -4,10 +4,20 @@
 // per neighbour, in neighbour-list order, so row_offset[a] = a + nbr_offset[a] and no counting pass
 // is needed. Entries are gathered: the loop writes only row a.
 //
-// Fluid row (Eq. 15, multiplied by -1 so that the diagonal is positive):
-//   sum_b c_ab (p_a - p_b) = -(1/dt) <div u*>_a,   c_ab = -2 V_b r_ab · (L_a grad W_ab) / (rho |r_ab|^2)
-// with L_a the gradient correction (the matrix is therefore not symmetric) and <div u*> the corrected
-// divergence (Eq. 3).
+// Fluid row (Eq. 15, multiplied by -1 so that the diagonal is positive), made exact for linear fields:
+//   sum_b c_ab (p_a - p_b) - m1_a · <grad p>_a = -(1/dt) <div u*>_a,
+//   c_ab = -2 V_b r_ab · (L_a grad W_ab) / (rho |r_ab|^2),   m1_a = sum_b c_ab r_ab,
+// with L_a the gradient correction (the matrix is therefore not symmetric), <grad p>_a the corrected
+// gradient (Eq. 2: sum_b V_b (p_b - p_a) L_a grad W_ab, the same neighbours, so the row keeps its
+// stencil) and <div u*> the corrected divergence (Eq. 3). For a linear p the two-point sum is
+// m1_a · grad p, which the correction removes: Eq. 15 alone is exact for linear fields only where the
+// support is symmetric (m1 = 0). Without it, the hydrostatic field is not a solution of the discrete
+// equation wherever the support is not: at walls and free surfaces (an O(dx) offset of the whole
+// field) and, in the interior, where a structure finer than the water meets it. There the first
+// fluid rows took an odd-even pressure pattern that neither the divergence nor the gradient of the
+// projection sees, and still water over a fine floor grew currents exponentially (docs/VALIDATION.md
+// section 23). The correction is the first-order part of the Laplacian's consistency condition (the
+// renormalised Laplacian of Fatehi & Manzari 2011, seed Eq. 4, with B^ = I).
 //
 // Free-surface condition, blended by Skillen's coefficient alpha_a (Eq. 17). With the PPE row divided
 // by its diagonal, P_a(p) = 0, and a surface condition S_a(p) = 0, row a is
@@ -31,7 +41,21 @@
 // the elastic gate's first step, and on the plate it took 6.1 iterations instead of 4.8 (each step's
 // last solve).
 // The row imposes the pressure gradient rho (g - a_w) of the momentum equation at a wall (exactly for
-// a hydrostatic field), so fluid is kept out of the wall by the projection. The extrapolation
+// a hydrostatic field), so fluid is kept out of the wall by the projection.
+//
+// Structure rows with the structure's inertia (added_mass > 0; sim/coupling.hpp). A structure particle's
+// acceleration over the fluid step answers its own pressure force: with the pairwise force per unit
+// volume f_s(p) = -sum_f V_f (p_s + p_f) grad W_sf (structure/interaction.hpp), its step acceleration is
+//   a_s = a~_s + beta f_s(p) / rho_s,
+// a~_s the part the pressure does not give (elastic forces, gravity: handed in as wall_acceleration) and
+// beta the chord acceleration's response to a force held over the step, 1/2 for a free particle
+// (x^{n+1} - x^n = v dt + f dt^2 / (2 rho_s)). The row's right-hand side (g - a_s) · M then holds p, and
+// that part moves to the left:
+//   p_s - sum_f w_sf p_f - (beta / rho_s) sum_f V_f (M · grad W_sf) (p_s + p_f) = (g - a~_s) · M,
+// with M the row's moment (wall_moment) and w_sf = W_sf / sum W. The structure's mass then stands in
+// the pressure equation beside the fluid's, so a fluid much heavier than the structure (the added mass
+// of Causin, Gerbeau & Nobile 2005) no longer needs the interface iterations to hold it: they correct
+// only what beta does not describe (the structure's elastic response within the step). The extrapolation
 // assumes fluid between the wall and its neighbours: a wall particle whose fluid neighbours are all
 // free-surface or splash particles (alpha = 0: a thin jet running up the wall, a drop sliding along
 // it) gets p = 0, or it would hold them up against gravity. So do a wall particle without fluid
@@ -66,6 +90,9 @@ struct PpeRowFill {
   double* rhs;
   Vec<D>* wall_moment;           // wall rows: rho sum_f W_wf r_wf / sum_f W_wf, so that rhs = (g - a_w) · wall_moment
                                  // and the row says p_w = sum_f (W_wf / sum W) p_f + rhs
+  const Index* structure_index = nullptr;   // with structure_inverse_density: the structure's inertia in its rows
+  const Real* structure_inverse_density = nullptr;  // 1 / rho_s, indexed as in TLSPH
+  Real added_mass = 0;                      // beta (0: the rows take a_s as given)
 
   ISPH_HD void operator()(Index a) const {
     const OperatorView<D>& op = v.op;
@@ -101,6 +128,15 @@ struct PpeRowFill {
         const Real c = r2 > 0 ? -2 * op.volume[b] * dot(r_ab, l * op.gradient(a, b, r_ab)) / (density * r2) : 0;
         diagonal += c;
         val[row + 1 + (k - begin)] = -c;
+      }
+      // linear exactness: - m1 · <grad p>_a, m1 = sum_b c_ab r_ab (see above)
+      Vec<D> m1 = Vec<D>::zero();
+      for (Index k = begin; k < end; ++k) m1 += (-val[row + 1 + (k - begin)]) * op.r(a, op.nbr[k]);
+      for (Index k = begin; k < end; ++k) {
+        const Index b = op.nbr[k];
+        const Real t = op.volume[b] * dot(m1, l * op.gradient(a, b, op.r(a, b)));
+        val[row + 1 + (k - begin)] -= t;
+        diagonal += t;
       }
       if (!(diagonal > 0)) {  // no usable Laplacian (degenerate neighbourhood): Dirichlet
         for (Index k = begin; k < end; ++k) val[row + 1 + (k - begin)] = 0;
@@ -148,6 +184,16 @@ struct PpeRowFill {
     val[row] = 1;
     wall_moment[a] = (density / weight_sum) * moment;
     rhs[a] = dot(gravity - v.wall_acceleration[a], wall_moment[a]);
+    if (added_mass > 0 && v.is_structure(a)) {  // the structure's inertia (see above)
+      const Real c = added_mass * structure_inverse_density[structure_index[a]];
+      for (Index k = begin; k < end; ++k) {
+        const Index b = op.nbr[k];
+        if (!v.is_fluid(b)) continue;
+        const Real t = c * op.volume[b] * dot(wall_moment[a], op.gradient(a, b, op.r(a, b)));
+        val[row] -= t;
+        val[row + 1 + (k - begin)] -= t;
+      }
+    }
   }
 };
 

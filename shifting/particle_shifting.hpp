@@ -3,7 +3,11 @@
 //
 //  xu   Xu, Stansby & Laurence (2009), generalised by Lind et al. (2012) with the cap |dr| <= 0.2 h:
 //         dr_a = C zeta R_a,  R_a = sum_b (rbar_a / r_ab)^2 n_ab,  rbar_a = (1/N_a) sum_b r_ab,   (21-23)
-//       zeta = |u|_max dt, n_ab = r_ab / |r_ab|, b over fluid and wall neighbours.
+//       zeta = |u|_max dt, n_ab = r_ab / |r_ab|, b over fluid and wall neighbours. Each neighbour counts
+//       with its volume relative to a's, w_b = V_b / V_a, in R_a, rbar_a and N_a = sum_b w_b: the sums then
+//       approximate integrals over the neighbourhood whatever its resolution, so that the finer (and
+//       closer, denser) particles of a structure finer than the water do not push the fluid off it
+//       (w_b = 1 on one resolution: Eqs. 21-23 as printed).
 //  ops  xu, and at free-surface and near-surface particles only the tangential part (Khayyer et al.
 //       2017):  dr_a <- (I - n_a ⊗ n_a) dr_a,                                                   (24)
 //       n_a = -grad Psi_a / |grad Psi_a|,  grad Psi_a = L_a sum_b V_b grad W_ab                  (25-26)
@@ -59,6 +63,7 @@ struct SurfaceNormal {
 template <int D>
 struct ShiftDisplacement {
   FluidView<D> v;
+  const Real* volume;            // the particles' own volumes (v's may leave out dry walls)
   const SurfaceClass* cls;
   const Vec<D>* surface_normal;  // from SurfaceNormal (ops only)
   ShiftingType type;
@@ -72,16 +77,16 @@ struct ShiftDisplacement {
     if (!v.is_fluid(a) || cls[a] == SurfaceClass::splash || type == ShiftingType::none) return;
     const OperatorView<D>& op = v.op;
     const Index begin = op.nbr_offset[a], end = op.nbr_offset[a + 1];
-    Real rbar = 0;
-    int count = 0;
+    Real rbar = 0, count = 0;
     Real nearest_surface2 = 1e300, nearest_structure2 = 1e300;
     Vec<D> normal = surface_normal[a], structure_normal = Vec<D>::zero();
     for (Index k = begin; k < end; ++k) {
       const Index b = op.nbr[k];
       const Real r2 = norm2(op.r(a, b));
       if (!(r2 > 0)) continue;
-      rbar += sqrt(r2);
-      ++count;
+      const Real w = volume[b] / volume[a];
+      rbar += w * sqrt(r2);
+      count += w;
       if (cls[a] == SurfaceClass::near_surface && cls[b] == SurfaceClass::surface && r2 < nearest_surface2) {
         nearest_surface2 = r2;
         normal = surface_normal[b];
@@ -91,7 +96,7 @@ struct ShiftDisplacement {
         structure_normal = v.wall_normal[b];
       }
     }
-    if (count == 0) return;
+    if (!(count > 0)) return;
     rbar /= count;
     Vec<D> R = Vec<D>::zero();
     for (Index k = begin; k < end; ++k) {
@@ -99,7 +104,7 @@ struct ShiftDisplacement {
       const Vec<D> r_ab = op.r(a, b);
       const Real r2 = norm2(r_ab);
       if (!(r2 > 0)) continue;
-      R += (rbar * rbar / (r2 * sqrt(r2))) * r_ab;
+      R += (volume[b] / volume[a]) * ((rbar * rbar / (r2 * sqrt(r2))) * r_ab);
     }
     Vec<D> dr = (coefficient * zeta) * R;
     if (type == ShiftingType::ops && (cls[a] == SurfaceClass::surface || cls[a] == SurfaceClass::near_surface))

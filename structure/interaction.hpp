@@ -83,6 +83,46 @@ struct ChordMotion {
   }
 };
 
+// The first iterate of a coupled step (sim/coupling.hpp): its chord acceleration predicted from the
+// state at its start. Under accelerations held over the step, x^{n+1} - x^n = v^n dt + (e + alpha) dt^2 / 2
+// gives a_s = (v^n - vbar^n)/dt + (e + alpha)/2, with e the structure's own acceleration (stress, gravity,
+// loads, contact) and alpha the pressure's (for the interpolated alpha, alpha^n/3 + alpha^{n+1}/6 in place
+// of alpha/2). The PPE's structure rows take it without beta alpha^{n+1} (PpeRowFill); with the last
+// step's field for alpha^{n+1}, the prediction is
+//   a~_s = (v^n - vbar^n)/dt + e/2 + (1/2 - beta) alpha^n.
+// The first term carries the last step's load into this one (vbar^n lags v^n by half the last step's
+// acceleration), which a start from the last step's a~_s misses: the step-to-step change of a_s along a
+// heavily loaded structure is mostly that term.
+// Clamped particles follow their clamp whatever the pressure: no alpha, no beta (their rows take a_s).
+template <int D>
+struct ChordPrediction {
+  const Vec<D>* v;       // v^n, the structure's own velocity
+  const Vec<D>* v_mean;  // vbar^n
+  const Vec<D>* own;     // e
+  const Vec<D>* alpha;   // alpha^n (null: none yet)
+  const unsigned char* fixed;
+  Real inverse_dt, alpha_share;
+  Vec<D>* out;
+  ISPH_HD void operator()(Index a) const {
+    Vec<D> p = inverse_dt * (v[a] - v_mean[a]) + 0.5 * own[a];
+    if (alpha && !fixed[a]) p += alpha_share * alpha[a];
+    out[a] = p;
+  }
+};
+
+// The part of a step's chord acceleration that the PPE's structure rows take, a~_s = a_s - beta alpha
+// (PpeRowFill), in place; clamped particles keep a_s.
+template <int D>
+struct PressureShareRemoved {
+  const Vec<D>* alpha;
+  const unsigned char* fixed;
+  Real beta;
+  Vec<D>* a;
+  ISPH_HD void operator()(Index k) const {
+    if (!fixed[k]) a[k] += (-beta) * alpha[k];
+  }
+};
+
 // Fluid particles beside a body (the structure, or the walls): whether the particle lies inside the
 // body, and its distance to the nearest of the body's particles (or a large value). Inside means both
 //  - the body's kernel sum (its colour function) at the particle, c_a = sum_b V_b W(x_a - x_b), exceeds

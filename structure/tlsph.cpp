@@ -3,6 +3,7 @@
 #include "structure/tlsph.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 
 #include "core/neighbour_search.hpp"
@@ -48,7 +49,8 @@ template <int D>
 TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
     : exec_(exec),
       n_(static_cast<Index>(s.X.size())),
-      kernel_(s.kernel),
+      kernels_(s.kernels),
+      level_(s.level.empty() ? std::vector<unsigned char>(s.X.size(), 0) : s.level),
       integrator_(s.integrator),
       gravity_(s.gravity),
       damping_(s.damping),
@@ -82,18 +84,22 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
 
   // Reference configuration (on the host): neighbours within the same body and the pair gradients
   // c_ab (Eq. 35-36: L_a g_ab, or exact for quadratic fields).
-  const NeighbourList list = build_neighbour_list<D>(s.X, kernel_.support(), s.body.data());
+  // (a body's particles share one spacing, so each pair has its body's kernel).
+  CellList<D> reference_cells;
+  reference_cells.build(s.X, kernels_.largest_support());
+  const NeighbourList list = neighbour_list(reference_cells, n_, s.body.data(), kernels_.reach(level_.data()));
   nbr_offset_.assign(list.offset.begin(), list.offset.end());
   nbr_.assign(list.index.begin(), list.index.end());
   cgrad_.resize(nbr_.size());
   hg_weight_.resize(nbr_.size());
-  const OperatorView<D> reference{n_, X_.data(), volume_.data(), nbr_offset_.data(), nbr_.data(), kernel_};
+  const OperatorView<D> reference{n_, X_.data(), volume_.data(), nbr_offset_.data(), nbr_.data(), kernels_, {},
+                                  kernels_.levels > 1 ? level_.data() : nullptr};
   std::vector<Mat<D>> L(n_, Mat<D>::identity());
   if (s.gradient != StructureGradient::uncorrected)
     parallel_for(Exec{}, n_, GradientCorrection<D>{reference, L.data()});
   for (Index a = 0; a < n_; ++a)
     for (Index k = nbr_offset_[a]; k < nbr_offset_[a + 1]; ++k)
-      cgrad_[k] = L[a] * (volume_[nbr_[k]] * kernel_.gradient(X_[a] - X_[nbr_[k]]));
+      cgrad_[k] = L[a] * (volume_[nbr_[k]] * reference.gradient(a, nbr_[k], X_[a] - X_[nbr_[k]]));
   if (s.gradient == StructureGradient::quadratic) parallel_for(Exec{}, n_, QuadraticCorrection<D>{reference, cgrad_.data()});
   // Per pair (a, b): the hourglass weight and the reverse pair's gradient c_ba; per particle S_a.
   rcgrad_.resize(nbr_.size());
@@ -102,7 +108,7 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
     for (Index k = nbr_offset_[a]; k < nbr_offset_[a + 1]; ++k) {
       const Index b = nbr_[k];
       const Vec<D> Xab = X_[a] - X_[b];
-      hg_weight_[k] = volume_[b] * kernel_.value(std::sqrt(norm2(Xab))) / norm2(Xab);
+      hg_weight_[k] = volume_[b] * reference.kernel(a, b).value(std::sqrt(norm2(Xab))) / norm2(Xab);
       cgrad_sum_[a] += cgrad_[k];
       const auto first = nbr_.begin() + nbr_offset_[b], last = nbr_.begin() + nbr_offset_[b + 1];
       rcgrad_[k] = cgrad_[std::find(first, last, a) - nbr_.begin()];  // the list is symmetric
@@ -176,17 +182,32 @@ TlsphView<D> TlsphSolver<D>::view() {
   return s;
 }
 
+// The smallest over the particles of courant h / c_p, with each particle's own h and material.
 template <int D>
 Real TlsphSolver<D>::stable_dt(Real courant) const {
-  Real c_max = 0;
-  for (const auto& m : materials_) c_max = std::max(c_max, std::sqrt((m.lambda + 2 * m.mu) / m.density));
-  return courant * kernel_.h / c_max;
+  Real dt = std::numeric_limits<Real>::max();
+  for (Index a = 0; a < n_; ++a) {
+    const ElasticMaterial& m = materials_[material_[a]];
+    dt = std::min(dt, courant * kernels_.kernel[level_[a]].h / std::sqrt((m.lambda + 2 * m.mu) / m.density));
+  }
+  return dt;
 }
 
 template <int D>
 void TlsphSolver<D>::update_stress() {
   tlsph_stress(waiting_exec(), view());
   pair_evaluations_ += stress_passes() * static_cast<long long>(pairs());
+}
+
+template <int D>
+void TlsphSolver<D>::own_acceleration(Real t, StateVector<Vec<D>>& acc) {
+  TlsphView<D> s = view();
+  for (std::size_t l = 0; l < loads_.size(); ++l) s.load_factor[l] = loads_[l].factor(t);
+  s.interaction = nullptr;
+  s.acc = acc.data();
+  tlsph_stress(waiting_exec(), s);
+  tlsph_acceleration(waiting_exec(), s);
+  pair_evaluations_ += evaluation_passes() * static_cast<long long>(pairs());
 }
 
 template <int D>

@@ -22,7 +22,7 @@
 #include "core/neighbour_search.hpp"
 #include "core/parallel.hpp"
 #include "core/types.hpp"
-#include "kernels/smoothing_kernel.hpp"
+#include "kernels/operators.hpp"
 #include "core/rigid_motion.hpp"
 #include "structure/tlsph_functors.hpp"
 
@@ -69,7 +69,8 @@ struct TlsphSetup {
   std::vector<RigidMotion<D>> motions;
   std::vector<ElasticMaterial> materials;
   std::vector<LoadField<D>> loads;
-  SmoothingKernel<D> kernel;
+  KernelTable<D> kernels;       // one per particle spacing (a body's particles share one)
+  std::vector<unsigned char> level;  // index in `kernels` per particle (empty: all on level 0)
   StructureGradient gradient = StructureGradient::linear;
   StructureQuadrature quadrature = StructureQuadrature::point;
   StructureIntegrator integrator = StructureIntegrator::rk4;
@@ -102,6 +103,9 @@ class TlsphSolver {
   Real advance(Real t, Real dt, int count, InteractionRamp<D> ramp = {});
   // Recomputes F, P and the strain energy at the current state (for output).
   void update_stress();
+  // The acceleration at the current state (time t) without the interaction field: the structure's own
+  // (stress, gravity, loads, contact), into `acc`.
+  void own_acceleration(Real t, StateVector<Vec<D>>& acc);
   // The fluid's interaction acceleration alpha(f->s) (Eq. 48), one per particle, added to the
   // acceleration until it is set again.
   void set_interaction(std::span<const Vec<D>> acc);
@@ -126,7 +130,7 @@ class TlsphSolver {
   void set_motion(std::span<const Vec<D>> x, std::span<const Vec<D>> v);
 
   Index size() const { return n_; }
-  Real support() const { return kernel_.support(); }
+  Real support() const { return kernels_.largest_support(); }  // the largest of the bodies' kernels
   Index pairs() const { return static_cast<Index>(nbr_.size()); }
   long long pair_evaluations() const { return pair_evaluations_; }
   const StateVector<Vec<D>>& reference() const { return X_; }
@@ -203,7 +207,8 @@ class TlsphSolver {
 
   Exec exec_;
   Index n_ = 0;
-  SmoothingKernel<D> kernel_;
+  KernelTable<D> kernels_;
+  std::vector<unsigned char> level_;  // host copy: the loops read the reference configuration's pair data
   StructureIntegrator integrator_;
   Vec<D> gravity_;
   Real damping_, hourglass_;

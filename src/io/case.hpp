@@ -54,20 +54,24 @@ struct InitialVelocitySpec {
   std::array<double, 3> direction{0, 1, 0};  // direction of the velocity (unit)
 };
 
-// A body: a primitive filled on a lattice of spacing dx (by default cell-centred: the lattice points
-// inside the shape, with the lattice anchored at `lattice_origin`). Every particle has the volume dx^D.
+// A body: a primitive filled on a lattice of spacing s (by default cell-centred: the lattice points
+// inside the shape, with the lattice anchored at `lattice_origin`). Every particle has the volume s^D.
+// s is the case's dx, or for a structure dx / refinement: a thin structure may be finer than the water
+// around it (multi-resolution, docs/VALIDATION.md section 23).
 struct BodySpec {
   std::string name;
   ParticleKind kind = ParticleKind::structure;
   std::string material;                      // name in the material table
   Shape shape;
   std::vector<Shape> clamps;                 // particles of this body inside any clamp are fixed
-  std::array<double, 3> lattice_origin{};    // lattice points at origin + (i + offset) dx
-  // Per axis, in units of dx, in [0, 1): 1/2 puts the particles at cell centres, so that the shape's
-  // faces lie dx/2 beyond its outer particles; 0 puts particle rows on the faces through the origin.
+  double refinement = 1.0;                   // structures: the case's dx over the body's spacing (>= 1; s = dx / refinement)
+  std::array<double, 3> lattice_origin{};    // lattice points at origin + (i + offset) s
+  // Per axis, in units of s, in [0, 1): 1/2 puts the particles at cell centres, so that the shape's
+  // faces lie s/2 beyond its outer particles; 0 puts particle rows on the faces through the origin.
   std::array<double, 3> lattice_offset{0.5, 0.5, 0.5};
   InitialVelocitySpec initial_velocity;
   MotionSpec motion;                         // walls; structures: their clamps
+  double spacing(double dx) const { return dx / refinement; }
 };
 
 // An applied load. "edge" and "point": a total force shared equally by the body's particles inside
@@ -128,6 +132,8 @@ struct PpeSolverSpec {
   int max_iterations = 1000;
   std::string fallback = hypre_available() ? "eigen" : "none";  // none | eigen | hypre: a second backend
                                                                 // tried after a failed solve
+  int preconditioner_reuse = 0;              // steps a preconditioner serves the next steps' matrices while
+                                             // the particles keep their order (0: a new one every step)
 };
 
 struct ShiftingSpec {
@@ -177,6 +183,7 @@ struct CouplingSpec {
   std::string interaction_force = "pairwise";  // pairwise | gradient (Eq. 48 literally; structure/interaction.hpp)
   std::string substep_interaction = "held";  // held (alpha of the step's end) | interpolated (from the last step's)
   bool wall_contact = true;                  // structure particles overlapping wall particles are pushed out (sim/coupling.hpp)
+  bool implicit_added_mass = true;           // the structure's inertia in its PPE rows (sim/coupling.hpp); false: a_s from the iterations alone
 };
 
 // Periodic axes: particles leaving [lo, hi) re-enter on the other side and neighbours are found

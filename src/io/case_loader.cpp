@@ -383,6 +383,7 @@ void read_fields(Table& t, CouplingSpec& c) {
   }
   t.read("fsi_shifting", c.fsi_shifting);
   t.read("wall_contact", c.wall_contact);
+  t.read("implicit_added_mass", c.implicit_added_mass);
   read_choice(t, "interaction_force", c.interaction_force, {"gradient", "pairwise"});
   read_choice(t, "substep_interaction", c.substep_interaction, {"held", "interpolated"});
   if (t.read("tolerance", c.tolerance) && !(c.tolerance > 0.0 && c.tolerance < 1.0))
@@ -450,6 +451,13 @@ void read_fields(Table& t, PpeSolverSpec& p) {
   if (read_choice(t, "fallback", p.fallback, {"none", "eigen", "hypre"}) && backend_ok &&
       p.fallback == p.backend)
     t.problem("fallback", "must differ from backend (both " + quote(p.backend) + "), or be \"none\"");
+  std::int64_t reuse = p.preconditioner_reuse;
+  if (t.read("preconditioner_reuse", reuse)) {
+    if (reuse < 0 || reuse > 1000)
+      t.problem("preconditioner_reuse", "must be in 0..1000 steps (got " + std::to_string(reuse) + ")");
+    else
+      p.preconditioner_reuse = static_cast<int>(reuse);
+  }
 }
 
 // The default surface thresholds on div r (case.hpp: FluidSpec).
@@ -655,16 +663,21 @@ void read_fields(Table& t, BodySpec& b) {
   // Structures need an elastic material and fluids a newtonian one (check_lists); walls may name one.
   t.read("material", b.material, wall ? Need::optional : Need::required);
   t.read("shape", b.shape, Need::required);
-  if (b.kind == ParticleKind::structure)
+  if (b.kind == ParticleKind::structure) {
     t.read("clamps", b.clamps);
-  else
+    if (t.read("refinement", b.refinement) && !(b.refinement >= 1.0 && b.refinement <= 16.0))
+      t.problem("refinement", "must be in [1, 16]: the structure's spacing is dx / refinement, finer than the "
+                              "water's or equal (got " + show(b.refinement) + ")");
+  } else {
     reject(t, "clamps", "only for kind = \"structure\" (" + kind_is + ")");
+    reject(t, "refinement", "only for kind = \"structure\"; fluid and walls take the case's dx (" + kind_is + ")");
+  }
   b.lattice_origin = default_lattice_origin(b.shape, t.ctx().dimension);
   t.read("lattice_origin", b.lattice_origin);
   if (t.read("lattice_offset", b.lattice_offset))
     for (int k = 0; k < t.ctx().dimension; ++k)
       if (!(b.lattice_offset[k] >= 0.0 && b.lattice_offset[k] < 1.0)) {
-        t.problem("lattice_offset", "every component must be in [0, 1), in units of dx (got " + show(b.lattice_offset[k]) +
+        t.problem("lattice_offset", "every component must be in [0, 1), in units of the body's spacing (got " + show(b.lattice_offset[k]) +
                                         " in component " + std::to_string(k) + ")");
         break;
       }
@@ -1064,7 +1077,7 @@ void write_body(std::ostream& out, const BodySpec& b, int dimension) {
       << "kind = " << quote(kind_name(b.kind)) << "\n";
   if (!b.material.empty()) out << "material = " << quote(b.material) << "\n";
   out << "shape = " << toml_shape(b.shape, dimension) << "\n";
-  if (b.kind == ParticleKind::structure) out << "clamps = [" << join(clamps, ", ") << "]\n";
+  if (b.kind == ParticleKind::structure) out << "clamps = [" << join(clamps, ", ") << "]\nrefinement = " << toml_float(b.refinement) << "\n";
   out << "lattice_origin = " << toml_vector(b.lattice_origin, dimension) << "\n";
   out << "lattice_offset = " << toml_vector(b.lattice_offset, dimension) << "\n";
   if (b.kind != ParticleKind::wall) out << "initial_velocity = " << toml_velocity(b.initial_velocity, dimension) << "\n";
@@ -1118,6 +1131,7 @@ void write_fluid(std::ostream& out, const FluidSpec& f) {
       << "tolerance = " << toml_float(f.ppe.tolerance) << "\n"
       << "max_iterations = " << f.ppe.max_iterations << "\n"
       << "fallback = " << quote(f.ppe.fallback) << "\n"
+      << "preconditioner_reuse = " << f.ppe.preconditioner_reuse << "\n"
       << "\n[fluid.wcsph]\n"
       << "time_stepping = " << quote(f.wcsph.time_stepping) << "\n"
       << "advection_courant = " << toml_float(f.wcsph.advection_courant) << "\n"
@@ -1161,6 +1175,7 @@ std::string resolved_toml(const CaseSpec& c) {
       << "substeps = " << c.coupling.substeps << "\n"
       << "fsi_shifting = " << toml_bool(c.coupling.fsi_shifting) << "\n"
       << "wall_contact = " << toml_bool(c.coupling.wall_contact) << "\n"
+      << "implicit_added_mass = " << toml_bool(c.coupling.implicit_added_mass) << "\n"
       << "interaction_force = " << quote(c.coupling.interaction_force) << "\n"
       << "substep_interaction = " << quote(c.coupling.substep_interaction) << "\n"
       << "tolerance = " << toml_float(c.coupling.tolerance) << "\n"

@@ -8,18 +8,18 @@ namespace isph {
 
 namespace {
 
+// The components of a along each structure particle's row direction (zero where it has none).
 template <int D>
-Eigen::VectorXd flatten(const StateVector<Vec<D>>& v) {
-  Eigen::VectorXd out(static_cast<Eigen::Index>(D * v.size()));
-  for (std::size_t a = 0; a < v.size(); ++a)
-    for (int d = 0; d < D; ++d) out[static_cast<Eigen::Index>(D * a + d)] = v[a][d];
+Eigen::VectorXd along(const StateVector<Vec<D>>& a, const StateVector<Vec<D>>& direction) {
+  Eigen::VectorXd out(static_cast<Eigen::Index>(a.size()));
+  for (std::size_t s = 0; s < a.size(); ++s) out[static_cast<Eigen::Index>(s)] = dot(a[s], direction[s]);
   return out;
 }
 
+// a = x direction, per structure particle.
 template <int D>
-void unflatten(const Eigen::VectorXd& x, StateVector<Vec<D>>& v) {
-  for (std::size_t a = 0; a < v.size(); ++a)
-    for (int d = 0; d < D; ++d) v[a][d] = x[static_cast<Eigen::Index>(D * a + d)];
+void from_components(const Eigen::VectorXd& x, const StateVector<Vec<D>>& direction, StateVector<Vec<D>>& a) {
+  for (std::size_t s = 0; s < a.size(); ++s) a[s] = x[static_cast<Eigen::Index>(s)] * direction[s];
 }
 
 }  // namespace
@@ -37,13 +37,19 @@ StructureCoupling<D>::StructureCoupling(TlsphSetup<D> setup, const CouplingSpec&
   const Index n = solver_.size();
   const StateAllocator<Vec<D>> vectors(device == Device::cuda);
   const StateAllocator<Real> scalars(device == Device::cuda);
-  for (auto* v : {&force_density_, &interaction_, &a_guess_, &a_new_, &x_old_, &v_new_, &last_interaction_})
+  for (auto* v : {&force_density_, &interaction_, &a_guess_, &a_new_, &a_rows_, &row_direction_, &own_acceleration_,
+                  &x_old_, &v_new_, &last_interaction_})
     *v = StateVector<Vec<D>>(n, Vec<D>::zero(), vectors);
   v_mean_ = StateVector<Vec<D>>(solver_.velocity().begin(), solver_.velocity().end(), vectors);
   wall_point_ = StateVector<Vec<D>>(vectors);
   wall_radius_ = StateVector<Real>(scalars);
   density_ = StateVector<Real>(n, 0.0, scalars);
-  for (Index a = 0; a < n; ++a) density_[a] = solver_.density(a);
+  inverse_density_ = StateVector<Real>(n, 0.0, scalars);
+  for (Index a = 0; a < n; ++a) {
+    density_[a] = solver_.density(a);
+    // a clamped particle's acceleration is the clamp's, whatever the pressure: no inertia in its row
+    inverse_density_[a] = solver_.fixed()[a] ? 0.0 : 1.0 / density_[a];
+  }
 }
 
 template <int D>
@@ -57,41 +63,64 @@ int StructureCoupling<D>::substep(Real t, Real dt, Real& work) {
 }
 
 template <int D>
+Real StructureCoupling<D>::added_mass_factor() const {
+  if (!spec_.implicit_added_mass) return 0;
+  return interpolate_ && has_last_interaction_ ? 1.0 / 6 : 0.5;
+}
+
+template <int D>
 FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid, PhaseTimer& timer) {
   const Index n = solver_.size();
   FluidStepReport report;
+  const Real beta = added_mass_factor();
+  fluid.set_structure_inertia(inverse_density_, beta);
   fluid.begin_step(dt, timer);
   quasi_newton_.begin_step();
+  Eigen::VectorXd x;  // the iterate: a~_s along each row's direction
+  Index wet = 0;
   timer.time("structure", [&] {
     set_obstacles(fluid.particles());
     solver_.save_state();
     parallel_for(exec_, n, CopyElements<Vec<D>>{solver_.position().data(), x_old_.data()});
+    fluid.structure_row_directions(row_direction_);
+    solver_.own_acceleration(t, own_acceleration_);
+    parallel_for(exec_, n, ChordPrediction<D>{solver_.velocity().data(), v_mean_.data(), own_acceleration_.data(),
+                                              has_last_interaction_ ? last_interaction_.data() : nullptr,
+                                              solver_.fixed().data(), 1.0 / dt, 0.5 - beta, a_guess_.data()});
+    x = along(a_guess_, row_direction_);
+    for (Index s = 0; s < n; ++s) wet += norm2(row_direction_[s]) > 0;
   });
-  const Real floor = g_norm_ * std::sqrt(static_cast<Real>(n));  // |g| on every particle
+  const Real floor = g_norm_ * std::sqrt(static_cast<Real>(wet));  // |g| on every wetted particle
   int iteration = 0, count = 0;
   Real work = 0;
   Vec<D> force = Vec<D>::zero();
   bool converged = false;
   while (!converged && iteration < spec_.max_iterations) {
     ++iteration;
-    fluid.set_structure_acceleration(a_guess_);
+    from_components(x, row_direction_, a_rows_);
+    fluid.set_structure_acceleration(a_rows_);
     fluid.solve_pressure(report, timer);
     if (report.ppe_failed) return report;
     timer.time("interaction", [&] {
       force = fluid.structure_pressure_force(force_density_);
       set_interaction();
     });
+    Eigen::VectorXd hx;
+    Real scale = 0;  // |a_s| along the rows, of the substeps
     timer.time("structure", [&] {
       if (iteration > 1) solver_.restore_state();
       work = 0;
       count = substep(t, dt, work);
       parallel_for(exec_, n, ChordMotion<D>{solver_.position().data(), x_old_.data(), v_mean_.data(), 1.0 / dt,
                                             v_new_.data(), a_new_.data()});
+      scale = along(a_new_, row_direction_).norm();
+      if (beta > 0)
+        parallel_for(exec_, n, PressureShareRemoved<D>{interaction_.data(), solver_.fixed().data(), beta, a_new_.data()});
+      hx = along(a_new_, row_direction_);
     });
-    const Eigen::VectorXd x = flatten(a_guess_), hx = flatten(a_new_);
-    converged = InterfaceQuasiNewton::converged(x, hx, spec_.tolerance, floor);
+    converged = (hx - x).norm() <= spec_.tolerance * std::max(scale, floor);
     if (converged || spec_.max_iterations == 1) break;
-    unflatten(quasi_newton_.next(x, hx), a_guess_);
+    x = quasi_newton_.next(x, hx);
   }
   if (!converged && spec_.max_iterations > 1) ++unconverged_;
   a_guess_.swap(a_new_);  // the next step starts from this step's acceleration

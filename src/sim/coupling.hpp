@@ -112,6 +112,9 @@ class StructureCoupling {
   int substep(Real t, Real dt, Real& work);
   // alpha(f->s) = f_s / rho_s (Eq. 48) from force_density_, handed to the TLSPH solver.
   void set_interaction();
+  // beta of the structure rows (PpeRowFill): 1/2 under a held alpha, 1/6 under a ramped one (the share
+  // of alpha^{n+1} in the chord displacement), 0 without coupling.implicit_added_mass.
+  Real added_mass_factor() const;
   // The fluid's wall particles as the TLSPH solver's obstacles, and each structure particle's candidates.
   void set_obstacles(const ParticleSet<D>& fluid);
   // The deepest structure-wall overlap at the step's end, for summary().
@@ -124,10 +127,12 @@ class StructureCoupling {
   CouplingSpec spec_;
   Real stable_dt_, g_norm_;
   StateVector<Vec<D>> force_density_, interaction_, a_guess_, a_new_, x_old_, v_new_, v_mean_;
+  StateVector<Vec<D>> row_direction_, a_rows_;  // each structure row's direction, and the iterate along it
+  StateVector<Vec<D>> own_acceleration_;        // the structure's own acceleration at a step's start (ChordPrediction)
   StateVector<Vec<D>> last_interaction_;  // alpha^n (interpolated)
   bool interpolate_;
   bool has_last_interaction_ = false;
-  StateVector<Real> density_;
+  StateVector<Real> density_, inverse_density_;
   InterfaceQuasiNewton quasi_newton_;
   long long steps_ = 0, substeps_ = 0, iterations_ = 0, unconverged_ = 0;
   int max_substeps_ = 0, max_iterations_seen_ = 0;

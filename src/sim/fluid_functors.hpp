@@ -275,14 +275,19 @@ struct FluidOutsideBox {
   }
 };
 
-// The pressure force density of structure particle k to its TLSPH index.
+// A vector of structure particle k to its TLSPH index (the pressure force density; with `unit`, the
+// direction of its PPE row's moment, zero where the row has none).
 template <int D>
-struct ScatterStructureForce {
+struct ScatterToStructure {
   const Index* structure_index;
-  const Vec<D>* boundary_force;
-  Vec<D>* force_density;
+  const Vec<D>* value;
+  bool unit;
+  Vec<D>* out;
   ISPH_HD void operator()(Index k) const {
-    if (const Index s = structure_index[k]; s >= 0) force_density[s] = boundary_force[k];
+    const Index s = structure_index[k];
+    if (s < 0) return;
+    const Real len = sqrt(norm2(value[k]));
+    out[s] = !unit ? value[k] : len > 0 ? (1.0 / len) * value[k] : Vec<D>::zero();
   }
 };
 

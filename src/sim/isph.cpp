@@ -172,7 +172,8 @@ void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
     parallel_for(exec_, n, PpeRowFill<D>{pv, L_.data(), alpha_.data(), div_u_star_.data(), density_, dt, gravity_,
                                          cls_.data(), surface_normal_.data(), extrapolate_surface_, pinned,
                                          full_matrix_.col.data(), full_matrix_.val.data(), rhs_.data(),
-                                         wall_moment_.data()});
+                                         wall_moment_.data(), particles_.structure_index.data(),
+                                         structure_inverse_density_, added_mass_});
     compress_matrix();
     solves_since_assembly_ = 0;
   });
@@ -184,14 +185,42 @@ void IsphSolver<D>::warm_start() {
   parallel_for(exec_, particles_.size(), CopyElements<Real>{particles_.pressure.data(), p_trial_.data()});
 }
 
+// What the solve keeps: the matrix between interface iterations; the preconditioner across steps
+// (settings_.ppe.preconditioner_reuse) while the particles keep their order and a solve with it needs
+// no more than twice the iterations of the first after its set-up (plus two).
+template <int D>
+MatrixReuse IsphSolver<D>::matrix_reuse() const {
+  if (solves_since_assembly_ > 0) return MatrixReuse::all;
+  const bool fresh_enough = preconditioner_age_ < settings_.ppe.preconditioner_reuse &&
+                            particles_.order_version() == preconditioner_order_ &&
+                            last_first_iterations_ <= 2 * setup_iterations_ + 2;
+  return fresh_enough ? MatrixReuse::preconditioner : MatrixReuse::none;
+}
+
 template <int D>
 void IsphSolver<D>::solve_pressure(FluidStepReport& report, PhaseTimer& timer) {
   timer.time("ppe_solve", [&] {
     warm_start();
-    report.ppe = solver_->solve(matrix_, rhs_, p_trial_, solves_since_assembly_ > 0);
+    const MatrixReuse reuse = matrix_reuse();
+    report.ppe = solver_->solve(matrix_, rhs_, p_trial_, reuse);
+    int iterations = report.ppe.iterations;  // of this solve, the fallback's included
+    if (!report.ppe.converged && solver_->kept_preconditioner()) {  // an old preconditioner may be why
+      warm_start();
+      report.ppe = solver_->solve(matrix_, rhs_, p_trial_, MatrixReuse::none);
+      iterations += report.ppe.iterations;
+    }
+    if (reuse != MatrixReuse::all) {  // the step's first solve: keep count of the preconditioner's use
+      if (solver_->kept_preconditioner()) {
+        ++preconditioner_age_;
+      } else {
+        preconditioner_age_ = 0;
+        preconditioner_order_ = particles_.order_version();
+        setup_iterations_ = report.ppe.iterations;
+      }
+      last_first_iterations_ = report.ppe.iterations;
+    }
     ++solves_since_assembly_;
     report.ppe_solver = solver_->name();
-    int iterations = report.ppe.iterations;  // of this solve, the fallback's included
     if (!report.ppe.converged && fallback_) {
       warm_start();
       report.ppe = fallback_->solve(matrix_, rhs_, p_trial_);
@@ -227,7 +256,7 @@ void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
     timer.time("shifting", [&] {
       if (kernel_correction_) parallel_for(exec_, n, GradientCorrection<D>{pv.op, L_.data()});
       const Real zeta = particles_.max_speed() * dt;
-      parallel_for(exec_, n, ShiftDisplacement<D>{pv, cls_.data(), surface_normal_.data(), shifting_,
+      parallel_for(exec_, n, ShiftDisplacement<D>{pv, particles_.volume.data(), cls_.data(), surface_normal_.data(), shifting_,
                                                   settings_.shifting.coefficient, zeta,
                                                   settings_.shifting.max_fraction * kernel_.h,
                                                   fsi_shifting_ && particles_.has_structure(), shift_.data()});
@@ -260,6 +289,12 @@ void IsphSolver<D>::set_structure_acceleration(std::span<const Vec<D>> a) {
   particles_.follow_structure_acceleration(a);
   parallel_for(exec_, particles_.size(),
                StructureRowRhs<D>{particles_.structure_index.data(), a.data(), gravity_, wall_moment_.data(), rhs_.data()});
+}
+
+template <int D>
+void IsphSolver<D>::structure_row_directions(std::span<Vec<D>> direction) const {
+  parallel_for(exec_, particles_.size(),
+               ScatterToStructure<D>{particles_.structure_index.data(), wall_moment_.data(), true, direction.data()});
 }
 
 template <int D>

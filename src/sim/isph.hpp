@@ -45,15 +45,27 @@ class IsphSolver final : public FluidModel<D> {
   const StateVector<Vec<D>>& shift() const { return shift_; }
   const std::string& ppe_solver_name() const { return solver_name_; }
 
-  // The structure's acceleration over the current step, a_s in the PPE rows of structure particles
-  // (g - a_s, PpeRowFill); between begin_step and solve_pressure it updates the assembled right-hand side.
+  // The structure's acceleration over the current step in the PPE rows of structure particles (g - a_s,
+  // PpeRowFill): a_s itself, or with the structure's inertia in the rows, the part a~_s of it that the
+  // pressure does not give. Between begin_step and solve_pressure it updates the assembled right-hand side.
   void set_structure_acceleration(std::span<const Vec<D>> a);
+  // After begin_step: the direction of each structure particle's PPE row moment (TLSPH's indexing; zero
+  // for a dry particle, whose row is p = 0). The rows read the structure's acceleration only along it.
+  void structure_row_directions(std::span<Vec<D>> direction) const;
+  // The structure's inertia in its PPE rows from the next begin_step on (PpeRowFill): 1/rho_s per
+  // structure particle (TLSPH's indexing; device-visible on the cuda device; kept by pointer) and the
+  // chord acceleration's response beta to the pressure force; beta = 0 leaves it out.
+  void set_structure_inertia(std::span<const Real> inverse_density, Real beta) {
+    structure_inverse_density_ = inverse_density.data();
+    added_mass_ = beta;
+  }
   // After solve_pressure: the pressure force per unit volume on the structure particles (Eq. 48 times
   // rho_s, or its pairwise form), indexed as in the TLSPH solver, and its sum (the force on the structure).
   Vec<D> structure_pressure_force(std::span<Vec<D>> force_density);
 
  private:
   void compress_matrix();
+  MatrixReuse matrix_reuse() const;
   // p_trial_ = p_, the solver's start (the last pressure), copied where the particles are.
   void warm_start();
   // The pressure force per unit volume on the boundary particles of one kind, into boundary_force_.
@@ -76,6 +88,12 @@ class IsphSolver final : public FluidModel<D> {
   CsrMatrix full_matrix_, matrix_;  // as assembled; without zeros, columns sorted
 
   int solves_since_assembly_ = 0;  // PPE solves with the assembled matrix (the later ones reuse its set-up)
+  // The preconditioner kept across steps (matrix_reuse): steps since its set-up, the particle order it
+  // was built for, the iterations of the first solve with it and of the last step's first solve.
+  int preconditioner_age_ = 0, setup_iterations_ = 0, last_first_iterations_ = 0;
+  long long preconditioner_order_ = -1;
+  const Real* structure_inverse_density_ = nullptr;  // set_structure_inertia
+  Real added_mass_ = 0;
   bool kernel_correction_;
   SurfaceThresholds thresholds_;
   ShiftingType shifting_;

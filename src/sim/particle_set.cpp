@@ -118,6 +118,7 @@ void ParticleSet<D>::reorder(const Index* order, Index count) {
   permute(kind, order, count);
   permute(level, order, count);
   for (const auto& follow : followers_) follow(order, count);
+  ++order_version_;
 }
 
 template <int D>
@@ -190,7 +191,7 @@ void ParticleSet<D>::gather_walls(StateVector<Vec<D>>& point, StateVector<Real>&
 
 template <int D>
 Vec<D> ParticleSet<D>::gather_structure_force(std::span<Vec<D>> force_density) const {
-  parallel_for(exec_, size(), ScatterStructureForce<D>{structure_index.data(), boundary_force.data(), force_density.data()});
+  parallel_for(exec_, size(), ScatterToStructure<D>{structure_index.data(), boundary_force.data(), false, force_density.data()});
   Vec<D> total;
   for (int d = 0; d < D; ++d)
     total[d] = ordered_sum(exec_, static_cast<Index>(structure_volume_.size()),

@@ -152,6 +152,8 @@ class ParticleSet {
   const Vec<D>& gravity() const { return gravity_; }
   bool has_structure() const { return has_structure_; }
   bool has_moving_walls() const { return !motions_.empty(); }
+  // Counts the re-sorts and removals: the particles' order is that of the last count.
+  long long order_version() const { return order_version_; }
 
   // The plain view the particle loops read (positions, volumes, levels, the neighbour list of the
   // last search, kinds, boundary data).
@@ -262,7 +264,7 @@ class ParticleSet {
   DeviceNeighbourList device_neighbours_;
 
   Index fluid_count_ = 0, wall_count_ = 0;
-  long long neighbour_searches_ = 0;
+  long long neighbour_searches_ = 0, order_version_ = 0;
   Real viscous_wall_power_ = 0;
   std::vector<RigidMotion<D>> motions_;
   Real density_, dx_;

@@ -82,9 +82,43 @@ Vec<D> initial_velocity(const InitialVelocitySpec& iv, const Vec<D>& X) {
   return Vec<D>::zero();
 }
 
+// The particle spacings of a case, finest first: the levels of the kernel table (kernels/operators.hpp
+// KernelTable). The case's dx is the fluid's and the walls'; a structure body may be `refinement` times
+// finer. Keyed by refinement, so that equal spacings are one level exactly.
+struct Resolutions {
+  std::vector<double> refinement;  // descending: level l has the spacing dx / refinement[l]
+  Real dx = 0;
+  explicit Resolutions(const CaseSpec& spec) : dx(spec.dx) {
+    refinement.push_back(1.0);
+    for (const auto& b : spec.bodies) refinement.push_back(b.refinement);
+    std::sort(refinement.begin(), refinement.end(), std::greater<double>());
+    refinement.erase(std::unique(refinement.begin(), refinement.end()), refinement.end());
+  }
+  int levels() const { return static_cast<int>(refinement.size()); }
+  int level(const BodySpec& b) const {
+    return static_cast<int>(std::find(refinement.begin(), refinement.end(), b.refinement) - refinement.begin());
+  }
+  int fluid_level() const { return levels() - 1; }
+  Real spacing(int level) const { return dx / refinement[level]; }
+  std::vector<Real> spacings() const {
+    std::vector<Real> s;
+    for (int l = 0; l < levels(); ++l) s.push_back(spacing(l));
+    return s;
+  }
+  template <int D>
+  KernelTable<D> kernels(const KernelSpec& k) const {
+    KernelTable<D> table;
+    table.levels = levels();
+    for (int l = 0; l < levels(); ++l)
+      table.kernel[l] = SmoothingKernel<D>::make(kernel_type_from_name(k.type), k.h_factor * spacing(l));
+    return table;
+  }
+};
+
 // Appends a fluid or wall body's lattice points to the fluid set-up.
 template <int D>
-void add_fluid_body(const CaseSpec& spec, std::size_t bi, const std::vector<Vec<D>>& points, FluidSetup<D>& f) {
+void add_fluid_body(const CaseSpec& spec, std::size_t bi, const std::vector<Vec<D>>& points, int level,
+                    FluidSetup<D>& f) {
   const BodySpec& body = spec.bodies[bi];
   const bool is_fluid = body.kind == ParticleKind::fluid;
   const Real volume = D == 2 ? spec.dx * spec.dx : spec.dx * spec.dx * spec.dx;
@@ -98,21 +132,25 @@ void add_fluid_body(const CaseSpec& spec, std::size_t bi, const std::vector<Vec<
     f.u.push_back(is_fluid ? initial_velocity<D>(body.initial_velocity, p) : wall_velocity);
     f.volume.push_back(volume);
     f.kind.push_back(is_fluid ? FluidKind::fluid : FluidKind::wall);
+    f.level.push_back(static_cast<unsigned char>(level));
     f.wall_velocity.push_back(wall_velocity);
     f.motion.push_back(moves ? static_cast<Index>(f.motions.size()) - 1 : -1);
     if (!f.structure_index.empty()) f.structure_index.push_back(-1);
   }
 }
 
-// Appends a structure particle to the fluid set-up, where it acts as a moving boundary (coupled cases).
+// Appends a structure particle of spacing s to the fluid set-up, where it acts as a moving boundary
+// (coupled cases).
 template <int D>
-void add_structure_particle(const Vec<D>& x, const Vec<D>& v, Index structure_index, Real dx, FluidSetup<D>& f) {
+void add_structure_particle(const Vec<D>& x, const Vec<D>& v, Index structure_index, Real s, int level,
+                            FluidSetup<D>& f) {
   f.structure_index.resize(f.x.size(), -1);
   f.id.push_back(static_cast<Index>(f.x.size()));
   f.x.push_back(x);
   f.u.push_back(v);
-  f.volume.push_back(D == 2 ? dx * dx : dx * dx * dx);
+  f.volume.push_back(D == 2 ? s * s : s * s * s);
   f.kind.push_back(FluidKind::structure);
+  f.level.push_back(static_cast<unsigned char>(level));
   f.wall_velocity.push_back(v);
   f.structure_index.push_back(structure_index);
   f.motion.resize(f.x.size(), -1);
@@ -140,13 +178,16 @@ Periodicity<D> periodicity(const PeriodicSpec& p) {
 }
 
 // Wall surface geometry for the no-slip condition (FluidView::velocity_seen): for each wall particle
-// the nearest lattice point that is inside the bounding box of all particles and not occupied by a
-// boundary particle (the "cavity" the fluid lives in) gives the normal n_w, pointing to it, and the depth
-// d_w = |q - x_w| - dx/2 (the wall surface lies half a spacing before the first free lattice point).
+// the nearest lattice point (of its own spacing s, around it) that is inside the bounding box of all
+// particles and not occupied by a boundary particle (the "cavity" the fluid lives in) gives the normal
+// n_w, pointing to it, and the depth d_w = |q - x_w| - s/2 (the wall surface lies half a spacing before
+// the first free lattice point). A point is occupied when it lies inside a boundary particle's cell (the
+// square or cube of its own spacing around it), so that a fine structure's sites inside a coarser wall
+// are occupied too.
 // The box is open upwards, against gravity, as the tank is: the top face of a wall is a surface too,
 // where water thrown over it lands (with the box closed there, the Walhorn tank's right wall had only
 // its inner face, and two spray particles that fell onto its top sank into it, 4.8 mm deep).
-// Wall particles with no free point within the kernel support keep n = 0 and never meet fluid.
+// Boundary particles with no free point within the fluid's kernel support keep n = 0 and never meet fluid.
 // What occupies a point depends on the particle: a structure particle's surface is found among all
 // boundary particles, a wall particle's only among the walls and the clamped structure particles, which
 // stay where they are. The free part of a structure standing on a wall may move off it (the elastic
@@ -156,35 +197,48 @@ Periodicity<D> periodicity(const PeriodicSpec& p) {
 // Returns 1 for the corner particles (normals bisecting two or more faces), 0 for the others.
 template <int D>
 std::vector<unsigned char> wall_surface_geometry(FluidSetup<D>& f, const std::vector<unsigned char>& structure_fixed,
-                                                 Real dx, Real support, const Periodicity<D>& period,
-                                                 const Vec<D>& gravity) {
+                                                 const std::vector<Real>& spacing, Real support,
+                                                 const Periodicity<D>& period, const Vec<D>& gravity) {
   const Index n = static_cast<Index>(f.x.size());
   f.wall_normal.assign(n, Vec<D>::zero());
   f.wall_depth.assign(n, 0);
   std::vector<unsigned char> corner(n, 0);
   std::vector<Vec<D>> boundary, permanent;
+  std::vector<Real> boundary_half, permanent_half;  // half the spacing of each
   for (Index a = 0; a < n; ++a) {
     if (f.kind[a] == FluidKind::fluid) continue;
+    const Real half = 0.5 * spacing[f.level[a]];
     boundary.push_back(f.x[a]);
-    if (f.kind[a] == FluidKind::wall || structure_fixed[f.structure_index[a]]) permanent.push_back(f.x[a]);
+    boundary_half.push_back(half);
+    if (f.kind[a] == FluidKind::wall || structure_fixed[f.structure_index[a]]) {
+      permanent.push_back(f.x[a]);
+      permanent_half.push_back(half);
+    }
   }
   if (boundary.empty()) return corner;
   Vec<D> lo = f.x[0], hi = f.x[0];
   for (const auto& x : f.x)
     for (int d = 0; d < D; ++d) lo[d] = std::min(lo[d], x[d]), hi[d] = std::max(hi[d], x[d]);
+  const Real coarsest = *std::max_element(spacing.begin(), spacing.end());
   CellList<D> boundary_cells, permanent_cells;
-  boundary_cells.build(boundary, dx, period);
-  permanent_cells.build(permanent, dx, period);
-  // Occupancy: a particle of `cells` within dx/2 of q.
-  auto occupied = [&](const CellList<D>& cells, const Vec<D>& q) {
+  boundary_cells.build(boundary, coarsest, period);
+  permanent_cells.build(permanent, coarsest, period);
+  // Occupancy: q inside the cell of a particle of `cells` (whose half spacings are `half`).
+  auto occupied = [&](const CellList<D>& cells, const std::vector<Real>& half, const Vec<D>& q) {
     bool hit = false;
-    cells.view().for_each_near(q, [&](Index, const Vec<D>& r) { hit = hit || norm2(r) < 0.25 * dx * dx; });
+    cells.view().for_each_near(q, [&](Index j, const Vec<D>& r) {
+      bool inside = true;
+      for (int d = 0; d < D; ++d) inside = inside && std::abs(r[d]) < half[j];
+      hit = hit || inside;
+    });
     return hit;
   };
-  const int reach = static_cast<int>(std::ceil(support / dx)) + 1;
   for (Index a = 0; a < n; ++a) {
     if (f.kind[a] == FluidKind::fluid) continue;
-    int best = std::numeric_limits<int>::max();  // |k|^2 of the nearest free sites, offsets k dx
+    const Real s = spacing[f.level[a]];
+    const bool wall = f.kind[a] == FluidKind::wall;
+    const int reach = static_cast<int>(std::ceil(support / s)) + 1;
+    int best = std::numeric_limits<int>::max();  // |k|^2 of the nearest free sites, offsets k s
     Vec<D> first = Vec<D>::zero(), sum = Vec<D>::zero();
     int ties = 0;
     int k[D];
@@ -192,11 +246,11 @@ std::vector<unsigned char> wall_surface_geometry(FluidSetup<D>& f, const std::ve
     while (true) {
       int k2 = 0;
       Vec<D> offset;
-      for (int d = 0; d < D; ++d) offset[d] = k[d] * dx, k2 += k[d] * k[d];
+      for (int d = 0; d < D; ++d) offset[d] = k[d] * s, k2 += k[d] * k[d];
       if (k2 > 0 && k2 <= best) {
         const Vec<D> q = period.wrap(f.x[a] + offset);
         if (!outside_open_box(q, lo, hi, gravity, period) &&
-            !occupied(f.kind[a] == FluidKind::wall ? permanent_cells : boundary_cells, q)) {
+            !occupied(wall ? permanent_cells : boundary_cells, wall ? permanent_half : boundary_half, q)) {
           if (k2 < best) best = k2, first = offset, sum = Vec<D>::zero(), ties = 0;
           sum = sum + offset;
           ++ties;
@@ -207,7 +261,7 @@ std::vector<unsigned char> wall_surface_geometry(FluidSetup<D>& f, const std::ve
       if (d == D) break;
     }
     if (best == std::numeric_limits<int>::max()) continue;
-    const Real dist = std::sqrt(static_cast<Real>(best)) * dx;
+    const Real dist = std::sqrt(static_cast<Real>(best)) * s;
     // A convex corner or edge has its nearest free sites on two or more faces: its normal is their
     // bisector, as if the corner were chamfered, so that water arriving on either face is met (with
     // the normal of one face only, spray that fell onto the Walhorn tank's wall top at its inner corner
@@ -216,7 +270,7 @@ std::vector<unsigned char> wall_surface_geometry(FluidSetup<D>& f, const std::ve
     const Real len = std::sqrt(norm2(sum));
     corner[a] = ties > 1 && len > 1e-9 * dist;
     f.wall_normal[a] = corner[a] ? (1.0 / len) * sum : (1.0 / dist) * first;
-    f.wall_depth[a] = dist - 0.5 * dx;
+    f.wall_depth[a] = dist - 0.5 * s;
   }
   return corner;
 }
@@ -275,9 +329,10 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const
   const Real dx = spec.dx;
   const Index n = static_cast<Index>(f.x.size());
   const Periodicity<D> period = periodicity<D>(spec.periodic);
+  const Resolutions resolutions(spec);
   f.dx = dx;
-  f.kernels = KernelTable<D>(SmoothingKernel<D>::make(kernel_type_from_name(spec.kernel.type), spec.kernel.h_factor * dx));
-  f.fluid_level = 0;
+  f.kernels = resolutions.kernels<D>(spec.kernel);
+  f.fluid_level = resolutions.fluid_level();
   f.kernel_correction = spec.kernel.correction;
   f.period = period;
   f.gravity = to_vec<D>(spec.gravity);
@@ -362,7 +417,8 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const
   }
 
   const std::vector<unsigned char> corner =
-      wall_surface_geometry(f, structure_fixed, dx, f.fluid_kernel().support(), period, to_vec<D>(spec.gravity));
+      wall_surface_geometry(f, structure_fixed, resolutions.spacings(), f.fluid_kernel().support(), period,
+                            to_vec<D>(spec.gravity));
   check_wall_thickness(f, corner, dx, f.fluid_kernel().support(), period, file, problems);
 
   // Moving walls: where they go and how fast, sampled over the run (for Eq. 49 and the escape box).
@@ -454,18 +510,25 @@ Scene<D> build_scene(const CaseSpec& spec) {
   TlsphSetup<D> s;  // in creation order; sorted by cell at the end
   FluidSetup<D> fluid;
 
+  const Resolutions resolutions(spec);
+  if (resolutions.levels() > kMaxLevels)
+    throw CaseError({file + ": bodies: " + std::to_string(resolutions.levels()) +
+                     " particle spacings (the case's dx and the structures' refinements); at most " +
+                     std::to_string(kMaxLevels) + " are supported"});
   for (const auto& m : spec.materials) s.materials.push_back(elastic_material(m, D));
   for (std::size_t bi = 0; bi < spec.bodies.size(); ++bi) {
     const BodySpec& body = spec.bodies[bi];
     const std::string key = "bodies[" + std::to_string(bi) + "]";
-    const auto points = fill_lattice<D>(body.shape, body.lattice_origin, body.lattice_offset, dx);
+    const Real spacing = body.spacing(dx);
+    const int level = resolutions.level(body);
+    const auto points = fill_lattice<D>(body.shape, body.lattice_origin, body.lattice_offset, spacing);
     if (points.empty()) {
-      problems.push_back(file + ": " + key + ".shape: no particles at dx = " + std::to_string(dx) +
-                         " (the shape is smaller than the particle spacing)");
+      problems.push_back(file + ": " + key + ".shape: no particles at a spacing of " + std::to_string(spacing) +
+                         " m (the shape is smaller than the particle spacing)");
       continue;
     }
     if (body.kind != ParticleKind::structure) {
-      add_fluid_body<D>(spec, bi, points, fluid);
+      add_fluid_body<D>(spec, bi, points, level, fluid);
       continue;
     }
     const auto mat = std::find_if(spec.materials.begin(), spec.materials.end(),
@@ -487,12 +550,14 @@ Scene<D> build_scene(const CaseSpec& spec) {
       s.X.push_back(p);
       const Vec<D> clamp_velocity = clamp_motion >= 0 ? s.motions[clamp_motion].velocity(p, 0) : Vec<D>::zero();
       s.v.push_back(fixed ? clamp_velocity : initial_velocity<D>(body.initial_velocity, p));
-      s.volume.push_back(D == 2 ? dx * dx : dx * dx * dx);
+      s.volume.push_back(D == 2 ? spacing * spacing : spacing * spacing * spacing);
+      s.level.push_back(static_cast<unsigned char>(level));
       s.material.push_back(material);
       s.body.push_back(static_cast<int>(bi));
       s.fixed.push_back(fixed);
       s.motion.push_back(fixed ? clamp_motion : -1);
-      if (spec.stages.fluid) add_structure_particle<D>(p, s.v.back(), static_cast<Index>(s.X.size()) - 1, dx, fluid);
+      if (spec.stages.fluid)
+        add_structure_particle<D>(p, s.v.back(), static_cast<Index>(s.X.size()) - 1, spacing, level, fluid);
     }
     for (std::size_t c = 0; c < body.clamps.size(); ++c)
       if (clamp_count[c] == 0)
@@ -532,15 +597,15 @@ Scene<D> build_scene(const CaseSpec& spec) {
         }
         if (arg >= 0) targets.push_back(arg);
       } else {
-        const Shape region = grown(load.region, 0.5 * dx);
+        const Shape region = grown(load.region, 0.5 * body->spacing(dx));
         for (Index a = 0; a < n; ++a)
           if (s.body[a] == bi && !s.fixed[a] && region.contains(to_array(s.X[a]), D)) targets.push_back(a);
       }
       if (targets.empty())
         problems.push_back(file + ": " + key + ".region: no free particle of body '" + load.body + "' is loaded");
       // A total force F shared by the loaded particles, f_i = F / n; or a traction t on each particle's
-      // cell face, f_i = t dx^(D-1). Then a_i = f_i / m_i.
-      const Vec<D> force = load.type == "traction" ? std::pow(dx, D - 1) * to_vec<D>(load.traction)
+      // cell face, f_i = t s^(D-1) (s the body's spacing). Then a_i = f_i / m_i.
+      const Vec<D> force = load.type == "traction" ? std::pow(body->spacing(dx), D - 1) * to_vec<D>(load.traction)
                                                    : (1.0 / static_cast<Real>(targets.size())) * to_vec<D>(load.force);
       for (Index a : targets) field.acc[a] = (1.0 / (s.materials[s.material[a]].density * s.volume[a])) * force;
     }
@@ -551,9 +616,8 @@ Scene<D> build_scene(const CaseSpec& spec) {
 
   // Sort particles by cell for memory locality; keep the creation index as stable id.
   CellList<D> cells;
-  const SmoothingKernel<D> kernel = SmoothingKernel<D>::make(kernel_type_from_name(spec.kernel.type),
-                                                             spec.kernel.h_factor * dx);
-  cells.build(s.X, kernel.support());
+  s.kernels = resolutions.kernels<D>(spec.kernel);
+  cells.build(s.X, s.kernels.largest_support());
   const std::vector<Index>& order = cells.order();
   auto permute = [&](auto& v) {
     auto copy = v;
@@ -562,6 +626,7 @@ Scene<D> build_scene(const CaseSpec& spec) {
   permute(s.X);
   permute(s.v);
   permute(s.volume);
+  permute(s.level);
   permute(s.material);
   permute(s.body);
   permute(s.fixed);
@@ -574,7 +639,7 @@ Scene<D> build_scene(const CaseSpec& spec) {
   for (Index& i : fluid.structure_index)
     if (i >= 0) i = sorted_slot[i];
 
-  // Probes: the structure particle nearest the point, which must lie within dx of the body.
+  // Probes: the structure particle nearest the point, which must lie within its spacing of the body.
   for (std::size_t pi = 0; pi < spec.probes.size(); ++pi) {
     const ProbeSpec& p = spec.probes[pi];
     if (p.type != "displacement") continue;
@@ -585,16 +650,15 @@ Scene<D> build_scene(const CaseSpec& spec) {
       const Real d2 = norm2(s.X[a] - point);
       if (d2 < best) best = d2, arg = a;
     }
-    if (arg < 0 || std::sqrt(best) > dx)
+    if (arg < 0 || std::sqrt(best) > resolutions.spacing(s.level[arg]))
       problems.push_back(file + ": probes[" + std::to_string(pi) + "].point: probe '" + p.name +
                          "' lies outside every structure (nearest particle " + std::to_string(std::sqrt(best)) +
-                         " m away, more than dx)");
+                         " m away, more than its spacing)");
     else
       scene.probes.push_back({p.name, arg, point});
   }
   if (!problems.empty()) throw CaseError(problems);
 
-  s.kernel = kernel;
   s.gradient = spec.kernel.correction ? structure_gradient_from_name(spec.structure.gradient) : StructureGradient::uncorrected;
   s.quadrature = structure_quadrature_from_name(spec.structure.quadrature);
   s.integrator = structure_integrator_from_name(spec.structure.integrator);

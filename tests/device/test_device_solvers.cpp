@@ -169,8 +169,8 @@ TEST(DeviceSolvers, CudaBicgstabMatchesNativeWithEveryPreconditioner) {
     s.backend = "native";
     auto host_solver = make_linear_solver(s);
     host_solver->solve(A, b, y_host);
-    ASSERT_TRUE(host_solver->solve(A, b2, y_host, true).converged);
-    ASSERT_TRUE(solver->solve(A, b2, y_device, true).converged) << preconditioner;
+    ASSERT_TRUE(host_solver->solve(A, b2, y_host, MatrixReuse::all).converged);
+    ASSERT_TRUE(solver->solve(A, b2, y_device, MatrixReuse::all).converged) << preconditioner;
     EXPECT_LT(relative_difference(y_device, y_host), 1e-8) << preconditioner;
   }
 }

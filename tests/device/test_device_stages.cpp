@@ -36,7 +36,7 @@ TlsphSetup<2> random_setup(unsigned seed, int columns = 40, StructureQuadrature 
       s.fixed.push_back(i < 3);
     }
   s.materials.push_back({1100.0, 2.0e7, 4.0e6, 1.2e7});
-  s.kernel = SmoothingKernel<2>::make(KernelType::cubic_spline, 1.2 * dx);
+  s.kernels = SmoothingKernel<2>::make(KernelType::cubic_spline, 1.2 * dx);
   s.hourglass = 0.5;
   s.damping = 3.0;
   s.quadrature = quadrature;

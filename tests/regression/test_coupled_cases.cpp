@@ -1,7 +1,7 @@
 // Coupled ISPH-TLSPH runs at coarse resolution (seconds each), asserting physics: a plate under a
 // water column deflects downwards by about the static deflection, no fluid enters it, and the
-// variants that fail do: the staggered scheme (no interface iterations), and the interpolated alpha(f->s)
-// under the full column.
+// variants that fail do: the staggered scheme without the structure's inertia in the PPE, and the
+// interpolated alpha(f->s) under the full column.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -121,13 +121,26 @@ TEST(CoupledPlate, RigidPlateCarriesTheWaterWeight) {
   EXPECT_NEAR(json_number(s, "fx"), 0.0, 1e-6 * weight) << s;
 }
 
-// Without interface iterations the water's added mass (3.7 times the plate's) makes the coupling unstable.
-TEST(CoupledPlate, StaggeredCouplingFailsWhereIterationsHold) {
+// One PPE solve and one structure pass per fluid step (coupling.max_iterations = 1, the seed's staggered
+// scheme). The water's added mass (3.7 times the plate's) makes it unstable when the PPE takes the
+// structure's acceleration as given: the plate passes 300 times its static deflection within 12 ms. With
+// the structure's inertia in its PPE rows (coupling.implicit_added_mass, the default) the same scheme
+// holds: measured 2026-12-03, peak 1.74 and mean 1.04 times the static deflection (converged interface
+// iterations: 1.87 and 1.07, at 4.3 iterations per step).
+TEST(CoupledPlate, StaggeredCouplingHoldsOnlyWithTheStructuresInertiaInThePpe) {
   const fs::path out = fresh_dir("coupled_plate_staggered");
-  const auto r = run_small_plate(out, " --set coupling.max_iterations=1");
+  run_small_plate(out, " --set coupling.max_iterations=1 --set coupling.implicit_added_mass=false");
   const std::string s = read_file(out / "summary.json");
   const bool diverged = s.find("\"status\": \"diverged\"") != std::string::npos;
   EXPECT_TRUE(diverged || lowest_deflection(out) < -10 * kStatic) << s;
+
+  const fs::path implicit = fresh_dir("coupled_plate_staggered_implicit");
+  const auto r = run_small_plate(implicit, " --set coupling.max_iterations=1");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto uy = read_csv(implicit / "probes.csv").at("midspan.uy");
+  const double mean = std::accumulate(uy.begin(), uy.end(), 0.0) / uy.size();
+  EXPECT_NEAR(lowest_deflection(implicit) / -kStatic, 1.74, 0.05);
+  EXPECT_NEAR(mean / -kStatic, 1.04, 0.05);
 }
 
 // alpha(f->s) ramped over the substeps ("interpolated") takes two thirds of the step's chord
@@ -202,25 +215,27 @@ TEST(CoupledGate, WeaklyCompressibleFluidMovesTheTipLikeTheReferences) {
 }
 
 // The gate's PPE (wall rows, structure rows, a broken free surface) with the project's own BiCGSTAB,
-// the solver the GPU runs: with Jacobi it fails on the first step (1,000 iterations without
-// convergence), with the smoothed-aggregation AMG every solve of the first 3 ms converges in 16 to 25
-// iterations (measured 16.3 on average, 22 at most, 2026-12-01).
+// the solver the GPU runs, at T/dx = 4 over the first 3 ms. Measured 2026-12-03: with the
+// smoothed-aggregation AMG, 13.5 iterations per solve on average (19 at most); with Jacobi, 262 (668 at
+// most). Before the PPE rows' first-moment correction (poisson/ppe_assembly.hpp) Jacobi failed on the
+// first step (1,000 iterations) and the AMG took 16.3.
 TEST(CoupledGate, OwnKrylovSolverNeedsTheAmgForTheGatesPressure) {
   const auto run = [](const std::string& name, const std::string& preconditioner) {
     const fs::path out = fresh_dir(name);
     const auto r = isph("run " + kCases + "elastic_gate.toml --quiet --out " + out.string() +
-                        " --set end_time=0.003 --set output.snapshots=false --set fluid.ppe.backend=native"
+                        " --set end_time=0.003 --set dx=0.00125 --set bodies.gate.refinement=1"
+                        " --set output.snapshots=false --set fluid.ppe.backend=native"
                         " --set fluid.ppe.fallback=none --set fluid.ppe.preconditioner=" + preconditioner);
-    return std::make_pair(r, read_file(out / "summary.json"));
+    EXPECT_EQ(r.status, 0) << r.output;
+    return read_file(out / "summary.json");
   };
-  const auto [amg, amg_summary] = run("gate_native_amg", "amg");
-  ASSERT_EQ(amg.status, 0) << amg.output;
-  EXPECT_EQ(json_number(amg_summary, "failures"), 0) << amg_summary;
-  EXPECT_LT(json_number(amg_summary, "mean_iterations"), 25) << amg_summary;
-  EXPECT_LT(json_number(amg_summary, "max_iterations"), 40) << amg_summary;
-  const auto [jacobi, jacobi_summary] = run("gate_native_jacobi", "jacobi");
-  EXPECT_EQ(jacobi.status, 3) << jacobi.output;
-  EXPECT_GE(json_number(jacobi_summary, "failures"), 1) << jacobi_summary;
+  const std::string amg = run("gate_native_amg", "amg");
+  EXPECT_EQ(json_number(amg, "failures"), 0) << amg;
+  EXPECT_NEAR(json_number(amg, "mean_iterations"), 13.5, 1.5) << amg;
+  EXPECT_LT(json_number(amg, "max_iterations"), 25) << amg;
+  const std::string jacobi = run("gate_native_jacobi", "jacobi");
+  EXPECT_EQ(json_number(jacobi, "failures"), 0) << jacobi;
+  EXPECT_GT(json_number(jacobi, "mean_iterations"), 15 * json_number(amg, "mean_iterations")) << jacobi;
 }
 
 // Every bundled case passes `isph check` (the rolling tank's roll history is found beside it).

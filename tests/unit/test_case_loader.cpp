@@ -225,7 +225,7 @@ TEST_F(CaseLoaderTest, LatticeOffsetPlacesParticleRowsOnTheFaces) {
   text.replace(text.find("clamps ="), 0, "lattice_offset = [1.0, 0.5]\n");
   const auto path = write("offset.toml", text);
   EXPECT_TRUE(reports(problems(path),
-                      path + ": bodies[0].lattice_offset: every component must be in [0, 1), in units of dx (got 1 in component 0)"));
+                      path + ": bodies[0].lattice_offset: every component must be in [0, 1), in units of the body's spacing (got 1 in component 0)"));
 }
 
 // A traction load gives each loaded free particle traction * dx^(D-1): along the beam's top face, the
@@ -254,6 +254,46 @@ TEST_F(CaseLoaderTest, TractionLoadsEachCellFace) {
   EXPECT_EQ(loaded, 95);
   EXPECT_NEAR(total[1], -950.0, 1e-7);
   EXPECT_NEAR(total[0], 0.0, 1e-12);
+}
+
+// A structure body `refinement` times finer than the case's dx: its lattice has the spacing
+// dx / refinement (four times as many particles in 2D, each a quarter of the volume), its traction
+// load acts on the finer cells' faces (the same total), and the TLSPH kernel of its particles is the
+// finer one (level 0 of the table, beside the case's dx). Fluid and wall bodies keep the case's dx.
+TEST_F(CaseLoaderTest, RefinementMakesAStructureFinerThanTheCase) {
+  std::string text = kBeam;
+  const auto first = text.find("[[loads]]"), last = text.find("[[probes]]");
+  text.replace(first, last - first,
+               "[[loads]]\ntype = \"traction\"\nbody = \"beam\"\n"
+               "region = { type = \"rectangle\", min = [0, 0.099], max = [1, 0.1] }\ntraction = [0, -1000]\n\n");
+  text.replace(text.find("clamps ="), 0, "refinement = 2\n");
+  const CaseSpec spec = load_case(write("refined.toml", text));
+  EXPECT_EQ(spec.bodies[0].refinement, 2.0);
+  const Scene<2> scene = build_scene<2>(spec);
+  const auto& s = scene.structure;
+  ASSERT_EQ(s.X.size(), 4u * 1000u);
+  EXPECT_NEAR(s.volume[0], 0.005 * 0.005, 1e-15);
+  ASSERT_EQ(s.kernels.levels, 2);
+  EXPECT_NEAR(s.kernels.kernel[0].h, 1.2 * 0.005, 1e-15);
+  EXPECT_NEAR(s.kernels.kernel[1].h, 1.2 * 0.01, 1e-15);
+  for (unsigned char level : s.level) EXPECT_EQ(level, 0);
+  Vec<2> total = Vec<2>::zero();
+  int loaded = 0;
+  for (std::size_t a = 0; a < s.X.size(); ++a) {
+    const Vec<2> f = (7800 * s.volume[a]) * s.loads[0].acc[a];
+    if (norm2(f) == 0) continue;
+    ++loaded;
+    EXPECT_NEAR(s.X[a][1], 0.0975, 1e-12);
+    total += f;
+  }
+  EXPECT_EQ(loaded, 190);
+  EXPECT_NEAR(total[1], -950.0, 1e-7);
+
+  std::string water = kDamBreak;
+  water.replace(water.find("shape = { type = \"rectangle\", min = [0, 0]"), 0, "refinement = 2\n");
+  const auto bad = write("refined_water.toml", water);
+  EXPECT_TRUE(reports(problems(bad), bad + ": bodies[0].refinement: only for kind = \"structure\"; fluid and walls take "
+                                          "the case's dx (kind = \"fluid\")"));
 }
 
 TEST_F(CaseLoaderTest, UnknownKeysAtEveryLevel) {

@@ -226,9 +226,10 @@ TEST(WallGeometry, WallsGatheredAsObstaclesInParticleOrder) {
 }
 
 // One projection step from rest gives the hydrostatic pressure rho g (H - y) and cancels gravity. The
-// walls' rows and the extrapolated surface condition are exact for it; the two-point Laplacian of
-// Eq. 15 is not exact for linear fields where the support is cut by the surface, which shifts the
-// whole field by a constant of O(dx) (0.44 % of rho g H at H/dx = 20): the gradient is exact.
+// walls' rows, the extrapolated surface condition and the fluid rows (Eq. 15 with its first-moment
+// correction, poisson/ppe_assembly.hpp) are all exact for it. Measured (2026-12-03, H/dx = 20): every
+// fluid particle within 0.012 % of rho g H (0.44 % without the correction, an offset of the whole field),
+// the fastest 4e-6 sqrt(g H).
 TEST(Projection, OneStepGivesHydrostaticPressure) {
   const double depth = 1.0, dx = depth / 20;
   const CaseSpec spec = load_text(tank_case(1.0, depth, 20, 0.2));
@@ -244,11 +245,11 @@ TEST(Projection, OneStepGivesHydrostaticPressure) {
     const Vec<2> x = solver.particles().position[a];
     const Real offset = (solver.particles().pressure[a] - 1000 * 9.81 * (depth - x[1])) / rho_g_h;
     if (x[1] < depth - 3 * dx) lo = std::min(lo, offset), hi = std::max(hi, offset);
-    EXPECT_LT(std::abs(offset), 1e-2) << "particle at (" << x[0] << ", " << x[1] << ")";
+    EXPECT_LT(std::abs(offset), 5e-4) << "particle at (" << x[0] << ", " << x[1] << ")";
     fastest = std::max(fastest, std::sqrt(norm2(solver.particles().velocity[a])));
   }
-  EXPECT_LT(hi - lo, 5e-4);  // below the surface rows: hydrostatic up to a constant, within 0.05 %
-  EXPECT_LT(fastest, 1e-3 * std::sqrt(9.81 * depth));
+  EXPECT_LT(hi - lo, 1e-4);  // below the surface rows, measured 2.5e-5
+  EXPECT_LT(fastest, 2e-5 * std::sqrt(9.81 * depth));
 }
 
 // The CSR rows of PpeRowFill equal a dense matrix assembled here by brute force over all particle
@@ -327,12 +328,20 @@ TEST(PpeAssembly, MatchesDenseAssembly) {
       dense[a][a] = 1.0;
       continue;
     }
+    // the two-point row, then - m1 . <grad p>_a, m1 = sum_b c_ab r_ab (exact for linear fields)
     double diag = 0;
     std::vector<double> c(n, 0.0);
+    Vec<2> m1 = Vec<2>::zero();
     for (Index b = 0; b < n; ++b) {
       const Vec<2> r = x[a] - x[b];
       if (b == a || norm2(r) >= kernel.support() * kernel.support()) continue;
       c[b] = -2 * volume[b] * dot(r, l * kernel.gradient(r)) / (density * norm2(r));
+      m1 += c[b] * r;
+    }
+    for (Index b = 0; b < n; ++b) {
+      const Vec<2> r = x[a] - x[b];
+      if (b == a || norm2(r) >= kernel.support() * kernel.support()) continue;
+      c[b] += volume[b] * dot(m1, l * kernel.gradient(r));
       diag += c[b];
     }
     const double al = alpha[a];

@@ -112,7 +112,7 @@ TEST_P(LinearSolverCombination, RecoversTheManufacturedSolution) {
   for (int i = 0; i < m.A.rows; ++i)
     for (int k = m.A.row_offset[i]; k < m.A.row_offset[i + 1]; ++k) b2[i] += m.A.val[k] * x2_star[m.A.col[k]];
   std::vector<double> x2 = x;
-  const auto r5 = solver->solve(m.A, b2, x2, true);
+  const auto r5 = solver->solve(m.A, b2, x2, MatrixReuse::all);
   EXPECT_TRUE(r5.converged) << r5.message;
   EXPECT_LT(relative_difference(x2, x2_star), 1e-7) << r5.message;
 }

@@ -31,7 +31,7 @@ TlsphSetup<2> block(int nx, int ny, Real dx, int clamped_columns, StructureInteg
     }
   const Real E = 1e6, nu = 0.3;
   s.materials.push_back({1000.0, E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu)), E});
-  s.kernel = SmoothingKernel<2>::make(KernelType::cubic_spline, 1.2 * dx);
+  s.kernels = SmoothingKernel<2>::make(KernelType::cubic_spline, 1.2 * dx);
   s.integrator = integrator;
   return s;
 }
@@ -413,7 +413,7 @@ TEST(Tlsph3D, AffineMapsAndRigidRotation) {
         s.fixed.push_back(0);
       }
   s.materials.push_back({1000.0, 5.0e5, 4.0e5, 1.0e6});
-  s.kernel = SmoothingKernel<3>::make(KernelType::wendland_c2, 1.3 * dx);
+  s.kernels = SmoothingKernel<3>::make(KernelType::wendland_c2, 1.3 * dx);
   TlsphSolver<3> solver(s);
   auto move = [&](const Mat<3>& A) {
     TlsphView<3> v = solver.view();

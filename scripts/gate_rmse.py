@@ -1,0 +1,68 @@
+#!/usr/bin/python3
+"""The elastic gate's tip against the reference curves (../shared/reference/antoci_2007_elastic_gate):
+RMSE of u_x and u_y per reference over the run (or up to --until), the peak u_x and its time, and the
+run's wall time. One line per run folder; --csv writes the table as CSV.
+
+  /usr/bin/python3 scripts/gate_rmse.py RUN [RUN ...] [--until T] [--csv FILE]
+"""
+import argparse
+import json
+import math
+import os
+
+import numpy as np
+
+from coupled_report import GATE_REFS, read_reference, rmse_against
+from report_common import ROOT, read_probes
+
+REFERENCE = os.path.join(os.path.dirname(ROOT), "shared", "reference", "antoci_2007_elastic_gate")
+
+
+def references():
+    """{(component, short name): curve} of every reference that exists."""
+    out = {}
+    for row in GATE_REFS:
+        key, shift = row[0], (row[3] if len(row) > 3 else 0.0)
+        for comp in ("x", "y"):
+            path = os.path.join(REFERENCE, f"ng_2020_elastic_dam_break_{comp}_displacement_{key}.csv")
+            if os.path.exists(path):
+                ref = read_reference(path)
+                ref[:, 0] += shift
+                out[(comp, key.split("_")[0])] = ref
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("runs", nargs="+")
+    ap.add_argument("--until", type=float, default=math.inf, help="RMSE up to this time [s]")
+    ap.add_argument("--csv", help="also write the table to this CSV file")
+    args = ap.parse_args()
+    refs = references()
+    header = ["run"] + [f"u{c} {name} [mm]" for c, name in refs] + ["peak ux [mm]", "at [s]", "end [s]", "wall [s]"]
+    rows = []
+    for run in args.runs:
+        d = read_probes(run)
+        t = d["time"]
+        keep = t <= args.until
+        row = [run]
+        for (comp, _), ref in refs.items():
+            row.append(f"{rmse_against(t[keep], d['tip.u' + comp][keep], ref) * 1e3:.2f}")
+        ux = d["tip.ux"]
+        row += [f"{ux.max() * 1e3:.1f}", f"{t[np.argmax(ux)]:.3f}", f"{t[-1]:.3f}"]
+        summary = os.path.join(run, "summary.json")
+        row.append(f"{json.load(open(summary))['wall_time_s']:.1f}" if os.path.exists(summary) else "-")
+        rows.append(row)
+    print("| " + " | ".join(header) + " |")
+    print("|" + "---|" * len(header))
+    for row in rows:
+        print("| " + " | ".join(row) + " |")
+    if args.csv:
+        with open(args.csv, "w") as f:
+            f.write(",".join(header) + "\n")
+            for row in rows:
+                f.write(",".join(row) + "\n")
+
+
+if __name__ == "__main__":
+    main()
