@@ -86,6 +86,10 @@ void tlsph_stress(const Exec& exec, const TlsphView<D>& view);
 template <int D>
 void tlsph_acceleration(const Exec& exec, const TlsphView<D>& view);
 
+// A structure's loops are short (hundreds of particles) and run tens of thousands of times per
+// simulated second: from this size they take every thread (docs/PERFORMANCE.md measures the gate's).
+inline constexpr Index kStructureParallelLoop = 256;
+
 template <int D>
 class TlsphSolver {
  public:
@@ -196,7 +200,8 @@ class TlsphSolver {
   }
   void make_state_device_visible();
   // Launches that wait for each other (the host's, or the device's one by one).
-  Exec waiting_exec() const { return Exec{exec_.device}; }
+  // On the host the structure's loops take every thread from kStructureParallelLoop particles on.
+  Exec waiting_exec() const { return Exec{exec_.device, nullptr, true, kStructureParallelLoop}; }
   // Where a loop over values handed in runs: on the host for values in ordinary host memory.
   Exec exec_reading(const void* values) const {
     return exec_.device == Device::cuda && !device_accessible(values) ? Exec{} : waiting_exec();

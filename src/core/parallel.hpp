@@ -31,10 +31,15 @@ enum class Device { cpu, cuda };
 
 inline const char* device_name(Device d) { return d == Device::cpu ? "cpu" : device_emulated() ? "debug" : "cuda"; }
 
+// Loops shorter than this run on one thread on the host: a parallel region costs more than it saves
+// there, and far more when the cores are oversubscribed (every barrier then waits for a time slice).
+inline constexpr Index kMinParallelLoop = 2048;
+
 struct Exec {
   Device device = Device::cpu;
   void* stream = nullptr;  // cuda: the stream (cudaStream_t) launches go to; null: the default stream
   bool wait = true;        // cuda: wait for each launch to finish (false: the caller synchronizes)
+  Index parallel_from = kMinParallelLoop;  // host: the shortest loop run on all threads
 };
 
 #if defined(__CUDACC__)
@@ -63,8 +68,6 @@ void cuda_parallel_for(const Exec& exec, Index n, const F& f) {
   throw std::runtime_error(std::string(what) + ": not compiled for CUDA (build with nvcc)");
 }
 
-inline constexpr Index kMinParallelLoop = 2048;
-
 // Whether exec's launches go to a GPU (the cuda device, with the debug device off).
 inline bool on_gpu(const Exec& exec) { return exec.device == Device::cuda && !device_emulated(); }
 
@@ -90,9 +93,7 @@ void parallel_for(const Exec& exec, Index n, const F& f) {
 #endif
   }
   const HostLaunch launch(exec);
-  // Small loops run on one thread: a parallel region costs more than it saves there, and far more
-  // when the cores are oversubscribed (every barrier then waits for a time slice).
-#pragma omp parallel for schedule(static) if (n >= kMinParallelLoop)
+#pragma omp parallel for schedule(static) if (n >= exec.parallel_from)
   for (Index i = 0; i < n; ++i) f(i);
 }
 
@@ -141,7 +142,7 @@ T parallel_reduce(const Exec& exec, Index n, T identity, const F& value, const C
   }
   const HostLaunch launch(exec);
   T result = identity;
-#pragma omp parallel if (n >= kMinParallelLoop)
+#pragma omp parallel if (n >= exec.parallel_from)
   {
     T local = identity;
 #pragma omp for schedule(static) nowait

@@ -56,8 +56,8 @@ struct InitialVelocitySpec {
 
 // A body: a primitive filled on a lattice of spacing s (by default cell-centred: the lattice points
 // inside the shape, with the lattice anchored at `lattice_origin`). Every particle has the volume s^D.
-// s is the case's dx, or for a structure dx / refinement: a thin structure may be finer than the water
-// around it (multi-resolution, docs/VALIDATION.md section 23).
+// s is the case's dx, or for a structure its own dx or the case's dx / refinement: a thin structure may be
+// finer than the water around it (multi-resolution, docs/VALIDATION.md section 23).
 struct BodySpec {
   std::string name;
   ParticleKind kind = ParticleKind::structure;
@@ -65,13 +65,14 @@ struct BodySpec {
   Shape shape;
   std::vector<Shape> clamps;                 // particles of this body inside any clamp are fixed
   double refinement = 1.0;                   // structures: the case's dx over the body's spacing (>= 1; s = dx / refinement)
+  double dx = 0.0;                           // structures: the body's own spacing [m] instead (0: from refinement)
   std::array<double, 3> lattice_origin{};    // lattice points at origin + (i + offset) s
   // Per axis, in units of s, in [0, 1): 1/2 puts the particles at cell centres, so that the shape's
   // faces lie s/2 beyond its outer particles; 0 puts particle rows on the faces through the origin.
   std::array<double, 3> lattice_offset{0.5, 0.5, 0.5};
   InitialVelocitySpec initial_velocity;
   MotionSpec motion;                         // walls; structures: their clamps
-  double spacing(double dx) const { return dx / refinement; }
+  double spacing(double case_dx) const { return dx > 0 ? dx : case_dx / refinement; }
 };
 
 // An applied load. "edge" and "point": a total force shared equally by the body's particles inside

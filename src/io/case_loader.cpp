@@ -668,9 +668,12 @@ void read_fields(Table& t, BodySpec& b) {
     if (t.read("refinement", b.refinement) && !(b.refinement >= 1.0 && b.refinement <= 16.0))
       t.problem("refinement", "must be in [1, 16]: the structure's spacing is dx / refinement, finer than the "
                               "water's or equal (got " + show(b.refinement) + ")");
+    if (read_positive(t, "dx", b.dx) && t.has("refinement"))
+      t.problem("dx", "give the body's spacing as dx or as refinement, not both");
   } else {
     reject(t, "clamps", "only for kind = \"structure\" (" + kind_is + ")");
     reject(t, "refinement", "only for kind = \"structure\"; fluid and walls take the case's dx (" + kind_is + ")");
+    reject(t, "dx", "only for kind = \"structure\"; fluid and walls take the case's dx (" + kind_is + ")");
   }
   b.lattice_origin = default_lattice_origin(b.shape, t.ctx().dimension);
   t.read("lattice_origin", b.lattice_origin);
@@ -1077,7 +1080,9 @@ void write_body(std::ostream& out, const BodySpec& b, int dimension) {
       << "kind = " << quote(kind_name(b.kind)) << "\n";
   if (!b.material.empty()) out << "material = " << quote(b.material) << "\n";
   out << "shape = " << toml_shape(b.shape, dimension) << "\n";
-  if (b.kind == ParticleKind::structure) out << "clamps = [" << join(clamps, ", ") << "]\nrefinement = " << toml_float(b.refinement) << "\n";
+  if (b.kind == ParticleKind::structure) out << "clamps = [" << join(clamps, ", ") << "]\n"
+                                              << (b.dx > 0 ? "dx = " + toml_float(b.dx) : "refinement = " + toml_float(b.refinement))
+                                              << "\n";
   out << "lattice_origin = " << toml_vector(b.lattice_origin, dimension) << "\n";
   out << "lattice_offset = " << toml_vector(b.lattice_offset, dimension) << "\n";
   if (b.kind != ParticleKind::wall) out << "initial_velocity = " << toml_velocity(b.initial_velocity, dimension) << "\n";

@@ -166,7 +166,7 @@ std::size_t CsvTable::add_rows_before(const std::string& path, double before) {
 void CsvTable::flush() const {
   std::ostringstream out;
   out.imbue(std::locale::classic());
-  out << std::setprecision(10);
+  out << std::setprecision(kDigits);
   for (std::size_t c = 0; c < columns_.size(); ++c) out << (c ? "," : "") << columns_[c];
   out << '\n';
   for (const auto& row : rows_) {

@@ -15,6 +15,9 @@ void write_file_atomically(const std::string& path, const std::string& content);
 // A CSV table kept in memory; flush() rewrites the whole file atomically.
 class CsvTable {
  public:
+  static constexpr int kDigits = 10;  // significant digits of every value written
+  // The relative error of a written value: a time read back lies within this fraction of end_time.
+  static constexpr double kRelativeResolution = 1e-9;
   CsvTable() = default;
   CsvTable(std::string path, std::vector<std::string> columns);
   void add_row(const std::vector<double>& values);  // throws if the size differs from the columns

@@ -95,6 +95,7 @@ FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid
   Real work = 0;
   Vec<D> force = Vec<D>::zero();
   bool converged = false;
+  Real residual = 0;  // |H(x) - x| / max(|a_s|, floor) of the last iteration
   while (!converged && iteration < spec_.max_iterations) {
     ++iteration;
     from_components(x, row_direction_, a_rows_);
@@ -118,11 +119,15 @@ FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid
         parallel_for(exec_, n, PressureShareRemoved<D>{interaction_.data(), solver_.fixed().data(), beta, a_new_.data()});
       hx = along(a_new_, row_direction_);
     });
-    converged = (hx - x).norm() <= spec_.tolerance * std::max(scale, floor);
+    const Real reference = std::max(scale, floor);
+    residual = reference > 0 ? (hx - x).norm() / reference : 0;
+    converged = residual <= spec_.tolerance;
     if (converged || spec_.max_iterations == 1) break;
     x = quasi_newton_.next(x, hx);
   }
   if (!converged && spec_.max_iterations > 1) ++unconverged_;
+  residual_sum_ += residual;
+  max_residual_ = std::max(max_residual_, residual);
   a_guess_.swap(a_new_);  // the next step starts from this step's acceleration
   last_interaction_.swap(interaction_);  // interaction_ is set afresh before it is read again
   has_last_interaction_ = true;
@@ -163,7 +168,9 @@ template <int D>
 bool StructureCoupling<D>::restore(const SnapshotData& snapshot, ParticleSet<D>& fluid) {
   const auto own_velocity = snapshot.fields.find("structure_velocity");
   const auto acceleration = snapshot.fields.find("structure_acceleration");
-  const bool complete = own_velocity != snapshot.fields.end() && acceleration != snapshot.fields.end();
+  const auto interaction = snapshot.fields.find("structure_interaction");
+  const bool complete = own_velocity != snapshot.fields.end() && acceleration != snapshot.fields.end() &&
+                        interaction != snapshot.fields.end();
   const std::vector<long long> row = snapshot.rows_by_id();
   StateVector<Vec<D>> x(x_old_), v(x_old_);
   for (Index a = 0; a < fluid.size(); ++a) {
@@ -173,14 +180,44 @@ bool StructureCoupling<D>::restore(const SnapshotData& snapshot, ParticleSet<D>&
     v_mean_[s] = fluid.velocity[a];
     v[s] = complete ? snapshot_vector<D>(own_velocity->second, row[fluid.id[a]]) : v_mean_[s];
     a_guess_[s] = complete ? snapshot_vector<D>(acceleration->second, row[fluid.id[a]]) : Vec<D>::zero();
+    last_interaction_[s] = complete ? snapshot_vector<D>(interaction->second, row[fluid.id[a]]) : Vec<D>::zero();
   }
+  has_last_interaction_ = complete;
   solver_.set_motion(x, v);
   const auto work = snapshot.attributes.find("interaction_work");
   interaction_work_ = work != snapshot.attributes.end() ? work->second : 0;
   const auto clamp_work = snapshot.attributes.find("clamp_work");
   solver_.set_clamp_work(clamp_work != snapshot.attributes.end() ? clamp_work->second : 0);
+  restore_quasi_newton(snapshot, fluid, row);
   fluid.move_structure(solver_.position(), v_mean_, solver_.deformation_gradient());
   return complete;
+}
+
+template <int D>
+void StructureCoupling<D>::restore_quasi_newton(const SnapshotData& snapshot, const ParticleSet<D>& fluid,
+                                                const std::vector<long long>& row) {
+  const auto field = snapshot.fields.find("interface_columns");
+  const auto count = snapshot.attributes.find("interface_column_steps");
+  if (field == snapshot.fields.end() || count == snapshot.attributes.end()) return;
+  const auto c = static_cast<std::size_t>(field->second.components / 2);
+  std::vector<InterfaceQuasiNewton::Column> columns(c, {Eigen::VectorXd::Zero(solver_.size()),
+                                                        Eigen::VectorXd::Zero(solver_.size())});
+  for (Index a = 0; a < fluid.size(); ++a) {
+    const Index s = fluid.structure_index[a];
+    if (s < 0) continue;
+    const double* values = field->second.data.data() + 2 * c * static_cast<std::size_t>(row[fluid.id[a]]);
+    for (std::size_t j = 0; j < c; ++j) {
+      columns[j].dr[s] = values[j];
+      columns[j].dh[s] = values[c + j];
+    }
+  }
+  std::vector<std::vector<InterfaceQuasiNewton::Column>> steps(static_cast<std::size_t>(count->second));
+  std::size_t next = 0;
+  for (std::size_t j = 0; j < steps.size(); ++j) {
+    const auto of_step = static_cast<std::size_t>(snapshot.attributes.at("interface_columns_of_step_" + std::to_string(j)));
+    for (std::size_t k = 0; k < of_step && next < c; ++k) steps[j].push_back(std::move(columns[next++]));
+  }
+  quasi_newton_.set_history(std::move(steps));
 }
 
 template <int D>
@@ -189,16 +226,45 @@ void StructureCoupling<D>::add_snapshot_fields(const ParticleSet<D>& fluid, cons
   const std::size_t n = slot.size();
   SnapshotField velocity{"structure_velocity", 3, std::vector<double>(3 * n, 0.0)};
   SnapshotField acceleration{"structure_acceleration", 3, std::vector<double>(3 * n, 0.0)};
+  SnapshotField interaction{"structure_interaction", 3, std::vector<double>(3 * n, 0.0)};
   for (std::size_t k = 0; k < n; ++k) {
     const Index s = fluid.structure_index[slot[k]];
     if (s < 0) continue;
     for (int d = 0; d < D; ++d) {
       velocity.data[3 * k + d] = solver_.velocity()[s][d];
       acceleration.data[3 * k + d] = a_guess_[s][d];
+      interaction.data[3 * k + d] = last_interaction_[s][d];
     }
   }
   fields.push_back(std::move(velocity));
   fields.push_back(std::move(acceleration));
+  fields.push_back(std::move(interaction));
+
+  // The quasi-Newton columns, all steps' side by side: dr of every column, then dh of every column.
+  std::vector<InterfaceQuasiNewton::Column> columns;
+  for (const auto& step : quasi_newton_.history()) columns.insert(columns.end(), step.begin(), step.end());
+  if (columns.empty()) return;
+  const std::size_t c = columns.size();
+  SnapshotField history{"interface_columns", static_cast<int>(2 * c), std::vector<double>(2 * c * n, 0.0)};
+  for (std::size_t k = 0; k < n; ++k) {
+    const Index s = fluid.structure_index[slot[k]];
+    if (s < 0) continue;
+    for (std::size_t j = 0; j < c; ++j) {
+      history.data[2 * c * k + j] = columns[j].dr[s];
+      history.data[2 * c * k + c + j] = columns[j].dh[s];
+    }
+  }
+  fields.push_back(std::move(history));
+}
+
+template <int D>
+void StructureCoupling<D>::add_snapshot_attributes(SnapshotAttributes& attributes) const {
+  attributes.emplace_back("interaction_work", interaction_work_);
+  attributes.emplace_back("clamp_work", solver_.clamp_work());
+  const auto steps = quasi_newton_.history();
+  attributes.emplace_back("interface_column_steps", static_cast<double>(steps.size()));
+  for (std::size_t j = 0; j < steps.size(); ++j)
+    attributes.emplace_back("interface_columns_of_step_" + std::to_string(j), static_cast<double>(steps[j].size()));
 }
 
 template <int D>
@@ -256,6 +322,8 @@ JsonObject StructureCoupling<D>::summary() const {
       .set("mean_interface_iterations", steps_ > 0 ? double(iterations_) / steps_ : 0.0)
       .set("max_interface_iterations", max_iterations_seen_)
       .set("unconverged_steps", unconverged_)
+      .set("mean_interface_residual", steps_ > 0 ? residual_sum_ / steps_ : 0.0)
+      .set("max_interface_residual", max_residual_)
       .set("mean_force_on_structure", mean_force)
       .set("interaction_work", interaction_work_)
       .set("wall_contact", spec_.wall_contact)

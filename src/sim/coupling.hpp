@@ -89,20 +89,23 @@ class StructureCoupling {
 
   // Continues from a snapshot (after fluid.restore): the structure's positions and the fluid's view of
   // its velocity (the chord velocity) from the fluid particles, and from the snapshot's fields
-  // "structure_velocity" and "structure_acceleration" TLSPH's own velocity and the last step's a_s,
-  // the start of the next interface iterations. A snapshot without them (written before they existed)
-  // gives TLSPH the chord velocity and the iterations a zero start; returns false then. The
-  // quasi-Newton columns of earlier steps are not kept: the first steps converge without them.
+  // "structure_velocity", "structure_acceleration" and "structure_interaction" TLSPH's own velocity,
+  // the last step's a_s and interaction acceleration, the start of the next interface iterations, with
+  // the quasi-Newton columns of the earlier steps ("interface_columns"). A snapshot without the first
+  // three (written before they existed) gives TLSPH the chord velocity and the iterations a zero
+  // start; returns false then.
   bool restore(const SnapshotData& snapshot, ParticleSet<D>& fluid);
   // What a restart needs besides the fluid's fields, per structure particle of the fluid (in the
-  // order of `slot`, zero on other particles): TLSPH's velocity and the last step's a_s.
+  // order of `slot`, zero on other particles): TLSPH's velocity, the last step's a_s and interaction,
+  // and the quasi-Newton columns.
   void add_snapshot_fields(const ParticleSet<D>& fluid, const std::vector<Index>& slot,
                            std::vector<SnapshotField>& fields) const;
+  // The scalars a restart needs: the interaction and clamp work, and how the quasi-Newton columns
+  // divide into steps.
+  void add_snapshot_attributes(SnapshotAttributes& attributes) const;
 
   const TlsphSolver<D>& solver() const { return solver_; }
   long long substeps() const { return substeps_; }
-  // Work done on the structure by the interaction force, integrated over the steps.
-  Real interaction_work() const { return interaction_work_; }
   // Iterations, substeps, penetration, distances and the force on the structure, for summary.json.
   JsonObject summary() const;
 
@@ -121,6 +124,8 @@ class StructureCoupling {
   void record_overlap();
   // The step's totals for summary(): interaction work, force, substeps, interface iterations.
   void account_step(Real work, const Vec<D>& force, int count, int iterations);
+  // The quasi-Newton columns of a snapshot (row: the snapshot's row of each stable id).
+  void restore_quasi_newton(const SnapshotData& snapshot, const ParticleSet<D>& fluid, const std::vector<long long>& row);
 
   Exec exec_;  // the structure's device, waiting for each launch
   TlsphSolver<D> solver_;
@@ -136,6 +141,7 @@ class StructureCoupling {
   InterfaceQuasiNewton quasi_newton_;
   long long steps_ = 0, substeps_ = 0, iterations_ = 0, unconverged_ = 0;
   int max_substeps_ = 0, max_iterations_seen_ = 0;
+  Real residual_sum_ = 0, max_residual_ = 0;  // the interface residual at each ISPH step's end
   ContactRecord<D> contact_;  // fluid inside the structure, step by step
   StateVector<Vec<D>> wall_point_;  // the fluid's wall particles as obstacles (set_obstacles)
   StateVector<Real> wall_radius_;

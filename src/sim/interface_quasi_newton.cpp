@@ -38,8 +38,19 @@ Eigen::VectorXd InterfaceQuasiNewton::next(const Eigen::VectorXd& x, const Eigen
   return hx + W * c;
 }
 
-bool InterfaceQuasiNewton::converged(const Eigen::VectorXd& x, const Eigen::VectorXd& hx, Real tolerance, Real floor) {
-  return (hx - x).norm() <= tolerance * std::max(hx.norm(), floor);
+std::vector<std::vector<InterfaceQuasiNewton::Column>> InterfaceQuasiNewton::history() const {
+  std::vector<std::vector<Column>> steps;
+  if (!current_.empty()) steps.push_back(current_);
+  steps.insert(steps.end(), earlier_.begin(), earlier_.end());
+  if (static_cast<int>(steps.size()) > reuse_steps_) steps.resize(static_cast<std::size_t>(reuse_steps_));
+  return steps;
+}
+
+void InterfaceQuasiNewton::set_history(std::vector<std::vector<Column>> steps) {
+  current_.clear();
+  earlier_.assign(std::make_move_iterator(steps.begin()), std::make_move_iterator(steps.end()));
+  while (static_cast<int>(earlier_.size()) > reuse_steps_) earlier_.pop_back();
+  has_last_ = false;
 }
 
 }  // namespace isph

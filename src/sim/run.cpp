@@ -96,7 +96,7 @@ class RunFrame {
       throw std::runtime_error("restart: write the continued run to another folder than " + earlier.string() +
                                " (--out), whose snapshots it would overwrite");
     for (auto [table, name] : {std::pair{&probes, "probes.csv"}, std::pair{&energy, "energy.csv"}})
-      if (std::filesystem::exists(earlier / name)) table->add_rows_before((earlier / name).string(), t - 1e-12 * spec_.end_time);
+      if (std::filesystem::exists(earlier / name)) table->add_rows_before((earlier / name).string(), t - CsvTable::kRelativeResolution * spec_.end_time);
   }
   bool due_record(double t, bool last) {
     if (!(t >= next_out_ - 1e-12 * spec_.end_time) && !last) return false;
@@ -372,8 +372,7 @@ void write_fluid_snapshot(SnapshotWriter& writer, double t, const FluidModel<D>&
   if (coupling) {
     fields.insert(fields.end(), {sxx, syy, sxy});
     coupling->add_snapshot_fields(particles, slot, fields);
-    restart_state.emplace_back("interaction_work", coupling->interaction_work());
-    restart_state.emplace_back("clamp_work", coupling->solver().clamp_work());
+    coupling->add_snapshot_attributes(restart_state);
   }
   writer.write(t, pos, fields, restart_state);
 }

@@ -83,34 +83,29 @@ Vec<D> initial_velocity(const InitialVelocitySpec& iv, const Vec<D>& X) {
 }
 
 // The particle spacings of a case, finest first: the levels of the kernel table (kernels/operators.hpp
-// KernelTable). The case's dx is the fluid's and the walls'; a structure body may be `refinement` times
-// finer. Keyed by refinement, so that equal spacings are one level exactly.
+// KernelTable). The case's dx is the fluid's and the walls'; a structure body may be finer (its own dx,
+// or the case's dx / refinement). Bodies of equal spacing share a level.
 struct Resolutions {
-  std::vector<double> refinement;  // descending: level l has the spacing dx / refinement[l]
+  std::vector<Real> spacing;  // ascending: level l has the spacing spacing[l]
   Real dx = 0;
   explicit Resolutions(const CaseSpec& spec) : dx(spec.dx) {
-    refinement.push_back(1.0);
-    for (const auto& b : spec.bodies) refinement.push_back(b.refinement);
-    std::sort(refinement.begin(), refinement.end(), std::greater<double>());
-    refinement.erase(std::unique(refinement.begin(), refinement.end()), refinement.end());
+    spacing.push_back(spec.dx);
+    for (const auto& b : spec.bodies) spacing.push_back(b.spacing(spec.dx));
+    std::sort(spacing.begin(), spacing.end());
+    spacing.erase(std::unique(spacing.begin(), spacing.end()), spacing.end());
   }
-  int levels() const { return static_cast<int>(refinement.size()); }
+  int levels() const { return static_cast<int>(spacing.size()); }
   int level(const BodySpec& b) const {
-    return static_cast<int>(std::find(refinement.begin(), refinement.end(), b.refinement) - refinement.begin());
+    return static_cast<int>(std::find(spacing.begin(), spacing.end(), b.spacing(dx)) - spacing.begin());
   }
-  int fluid_level() const { return levels() - 1; }
-  Real spacing(int level) const { return dx / refinement[level]; }
-  std::vector<Real> spacings() const {
-    std::vector<Real> s;
-    for (int l = 0; l < levels(); ++l) s.push_back(spacing(l));
-    return s;
-  }
+  int fluid_level() const { return level_of(dx); }
+  int level_of(Real s) const { return static_cast<int>(std::find(spacing.begin(), spacing.end(), s) - spacing.begin()); }
   template <int D>
   KernelTable<D> kernels(const KernelSpec& k) const {
     KernelTable<D> table;
     table.levels = levels();
     for (int l = 0; l < levels(); ++l)
-      table.kernel[l] = SmoothingKernel<D>::make(kernel_type_from_name(k.type), k.h_factor * spacing(l));
+      table.kernel[l] = SmoothingKernel<D>::make(kernel_type_from_name(k.type), k.h_factor * spacing[l]);
     return table;
   }
 };
@@ -417,7 +412,7 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const
   }
 
   const std::vector<unsigned char> corner =
-      wall_surface_geometry(f, structure_fixed, resolutions.spacings(), f.fluid_kernel().support(), period,
+      wall_surface_geometry(f, structure_fixed, resolutions.spacing, f.fluid_kernel().support(), period,
                             to_vec<D>(spec.gravity));
   check_wall_thickness(f, corner, dx, f.fluid_kernel().support(), period, file, problems);
 
@@ -513,8 +508,14 @@ Scene<D> build_scene(const CaseSpec& spec) {
   const Resolutions resolutions(spec);
   if (resolutions.levels() > kMaxLevels)
     throw CaseError({file + ": bodies: " + std::to_string(resolutions.levels()) +
-                     " particle spacings (the case's dx and the structures' refinements); at most " +
+                     " particle spacings (the case's dx and the structures' own); at most " +
                      std::to_string(kMaxLevels) + " are supported"});
+  for (std::size_t bi = 0; bi < spec.bodies.size(); ++bi)
+    if (spec.bodies[bi].spacing(dx) > dx)
+      problems.push_back(file + ": bodies[" + std::to_string(bi) + "].dx: " + std::to_string(spec.bodies[bi].dx) +
+                         " m is coarser than the case's dx = " + std::to_string(dx) +
+                         " m; a structure may be finer than the water, not coarser");
+  if (!problems.empty()) throw CaseError(problems);
   for (const auto& m : spec.materials) s.materials.push_back(elastic_material(m, D));
   for (std::size_t bi = 0; bi < spec.bodies.size(); ++bi) {
     const BodySpec& body = spec.bodies[bi];
@@ -650,7 +651,7 @@ Scene<D> build_scene(const CaseSpec& spec) {
       const Real d2 = norm2(s.X[a] - point);
       if (d2 < best) best = d2, arg = a;
     }
-    if (arg < 0 || std::sqrt(best) > resolutions.spacing(s.level[arg]))
+    if (arg < 0 || std::sqrt(best) > resolutions.spacing[s.level[arg]])
       problems.push_back(file + ": probes[" + std::to_string(pi) + "].point: probe '" + p.name +
                          "' lies outside every structure (nearest particle " + std::to_string(std::sqrt(best)) +
                          " m away, more than its spacing)");

@@ -4,6 +4,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -13,6 +15,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -98,6 +101,39 @@ inline std::map<std::string, std::vector<double>> read_csv(const fs::path& file)
     for (std::string c; std::getline(row, c, ',') && k < names.size(); ++k) cols[names[k]].push_back(std::stod(c));
   }
   return cols;
+}
+
+// A reference curve (t, u) from ../shared/reference, sorted by time (two columns, no header).
+inline std::vector<std::pair<double, double>> read_reference(const std::string& path_in_reference) {
+  std::ifstream in(std::string(ISPH_REFERENCE_DIR) + "/" + path_in_reference);
+  std::vector<std::pair<double, double>> rows;
+  for (double t, u; in >> t && in.ignore(1) >> u;) rows.emplace_back(t, u);
+  std::sort(rows.begin(), rows.end());
+  return rows;
+}
+
+// u linearly interpolated at time t from samples (time[k], u[k]) ascending in time.
+inline double interpolate(const std::vector<double>& time, const std::vector<double>& u, double t) {
+  const auto it = std::upper_bound(time.begin(), time.end(), t);
+  if (it == time.begin()) return u.front();
+  if (it == time.end()) return u.back();
+  const std::size_t k = static_cast<std::size_t>(it - time.begin());
+  return u[k - 1] + (u[k] - u[k - 1]) * (t - time[k - 1]) / (time[k] - time[k - 1]);
+}
+
+// RMSE of a run's u(t) against the reference points inside the run's time range (as
+// scripts/coupled_report.py computes it).
+inline double rmse_against(const std::vector<double>& time, const std::vector<double>& u,
+                           const std::vector<std::pair<double, double>>& reference) {
+  double sum = 0;
+  std::size_t count = 0;
+  for (const auto& [t, value] : reference)
+    if (t >= time.front() && t <= time.back()) {
+      const double e = interpolate(time, u, t) - value;
+      sum += e * e;
+      ++count;
+    }
+  return count ? std::sqrt(sum / count) : std::numeric_limits<double>::quiet_NaN();
 }
 
 inline std::string read_file(const fs::path& file) {

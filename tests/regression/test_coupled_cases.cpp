@@ -13,10 +13,11 @@
 
 namespace {
 
-// The hydrostatic plate (cases/hydrostatic_plate.toml) at T/dx = 4, with output every 0.5 ms.
+// The hydrostatic plate as shipped (cases/hydrostatic_plate.toml: the plate at T/dx = 4 under water twice
+// as coarse), with output every 0.5 ms.
 std::string plate_run(const fs::path& out) {
   return "run " + kCases + "hydrostatic_plate.toml --quiet --out " + out.string() +
-         " --set dx=0.0125 --set output.interval=0.0005 --set output.snapshots=false";
+         " --set output.interval=0.0005 --set output.snapshots=false";
 }
 
 // Seed Eq. 53: the static mid-span deflection under a column H deep (reference README),
@@ -31,8 +32,8 @@ constexpr double kStatic = static_deflection(0.5);
 CommandResult run_small_plate(const fs::path& out, const std::string& extra) {
   const std::string shallow =
       " --set 'bodies.water.shape={type=\"rectangle\",min=[0.0,0.0],max=[1.0,0.5]}'"
-      " --set 'bodies.left_wall.shape={type=\"rectangle\",min=[-0.0375,0.0],max=[0.0,0.6]}'"
-      " --set 'bodies.right_wall.shape={type=\"rectangle\",min=[1.0,0.0],max=[1.0375,0.6]}'";
+      " --set 'bodies.left_wall.shape={type=\"rectangle\",min=[-0.075,0.0],max=[0.0,0.6]}'"
+      " --set 'bodies.right_wall.shape={type=\"rectangle\",min=[1.0,0.0],max=[1.075,0.6]}'";
   return isph(plate_run(out) + " --set end_time=0.012" + shallow + extra);
 }
 
@@ -60,14 +61,14 @@ TEST(CoupledPlate, DeflectsDownwardsByTheStaticDeflectionWithoutPenetration) {
   const std::string s = read_file(out / "summary.json");
   EXPECT_EQ(json_number(s, "fluid_inside_structure_max"), 0) << s;
   EXPECT_GT(json_number(s, "min_fluid_structure_distance"), 0.5 * 0.0125) << s;
-  EXPECT_EQ(json_number(s, "unconverged_steps"), 0) << s;
 }
 
 // A run continued from a snapshot (--restart) carries the earlier rows and follows the uninterrupted
-// run: the same time steps, and deflections within the interface iterations' tolerance (1e-3 of the
-// structure's acceleration; the quasi-Newton columns and the particle order start afresh, so the
-// iterations end elsewhere inside it). Restarting into the earlier run's folder, past end_time, or from
-// a snapshot of another resolution is refused with a message.
+// run: the same time steps, and deflections within 1e-3 of the peak (measured 2026-12-03: 1.3e-5 of
+// it; the particle order and the AMG hierarchy start afresh). The case's two interface iterations take
+// their second iterate from the quasi-Newton columns of earlier steps, so the snapshot carries them:
+// without them the first step after the restart ended 2.6 times deeper. Restarting into the earlier
+// run's folder, past end_time, or from a snapshot of another resolution is refused with a message.
 TEST(CoupledPlate, RestartFollowsTheUninterruptedRun) {
   const fs::path full = fresh_dir("coupled_plate_full"), continued = fresh_dir("coupled_plate_continued");
   const std::string snapshots = " --set output.snapshots=true --set output.snapshot_interval=0.006";
@@ -95,7 +96,7 @@ TEST(CoupledPlate, RestartFollowsTheUninterruptedRun) {
       EXPECT_NEAR(ua[k], b.at("midspan.uy")[k], 1e-3 * peak) << "t = " << a.at("time")[k];
     }
   }
-  EXPECT_GT(after, 8u);
+  EXPECT_GE(after, 5u);  // every fluid step (1.28 ms) from 6.4 ms to 12 ms
 
   const auto same_folder = run_small_plate(full, " --restart " + snapshot.string());
   EXPECT_NE(same_folder.status, 0);
@@ -103,7 +104,7 @@ TEST(CoupledPlate, RestartFollowsTheUninterruptedRun) {
   const auto ended = run_small_plate(fresh_dir("coupled_plate_ended"), " --set end_time=0.005 --restart " + snapshot.string());
   EXPECT_NE(ended.status, 0);
   EXPECT_NE(ended.output.find("not before end_time"), std::string::npos) << ended.output;
-  const auto other_case = run_small_plate(fresh_dir("coupled_plate_other"), " --set dx=0.01 --restart " + snapshot.string());
+  const auto other_case = run_small_plate(fresh_dir("coupled_plate_other"), " --set dx=0.02 --restart " + snapshot.string());
   EXPECT_NE(other_case.status, 0);
   EXPECT_NE(other_case.output.find("not a snapshot of this case"), std::string::npos) << other_case.output;
 }
@@ -125,8 +126,8 @@ TEST(CoupledPlate, RigidPlateCarriesTheWaterWeight) {
 // scheme). The water's added mass (3.7 times the plate's) makes it unstable when the PPE takes the
 // structure's acceleration as given: the plate passes 300 times its static deflection within 12 ms. With
 // the structure's inertia in its PPE rows (coupling.implicit_added_mass, the default) the same scheme
-// holds: measured 2026-12-03, peak 1.74 and mean 1.04 times the static deflection (converged interface
-// iterations: 1.87 and 1.07, at 4.3 iterations per step).
+// holds: measured 2026-12-03, peak 1.78 and mean 1.15 times the static deflection (the case's two
+// iterations: 1.76 and 1.00; converged iterations: 1.70 and 0.99, at 5 iterations per step).
 TEST(CoupledPlate, StaggeredCouplingHoldsOnlyWithTheStructuresInertiaInThePpe) {
   const fs::path out = fresh_dir("coupled_plate_staggered");
   run_small_plate(out, " --set coupling.max_iterations=1 --set coupling.implicit_added_mass=false");
@@ -139,27 +140,28 @@ TEST(CoupledPlate, StaggeredCouplingHoldsOnlyWithTheStructuresInertiaInThePpe) {
   ASSERT_EQ(r.status, 0) << r.output;
   const auto uy = read_csv(implicit / "probes.csv").at("midspan.uy");
   const double mean = std::accumulate(uy.begin(), uy.end(), 0.0) / uy.size();
-  EXPECT_NEAR(lowest_deflection(implicit) / -kStatic, 1.74, 0.05);
-  EXPECT_NEAR(mean / -kStatic, 1.04, 0.05);
+  EXPECT_NEAR(lowest_deflection(implicit) / -kStatic, 1.78, 0.05);
+  EXPECT_NEAR(mean / -kStatic, 1.15, 0.05);
 }
 
 // alpha(f->s) ramped over the substeps ("interpolated") takes two thirds of the step's chord
 // displacement from the previous step's load: that share of the added mass is explicit, and a mode
 // whose added mass exceeds three times its own mass flips sign every fluid step and grows
 // (docs/VALIDATION.md section 12: the plate's first mode under the bundled 2 m column carries 10.6 times
-// its mass; under 0.5 m, 2.9 times). The full column, 6 ms: held, the default, overshoots to about twice
-// the static deflection, as a suddenly applied load does; interpolated diverges at 4.6 ms.
+// its mass; under 0.5 m, 2.9 times). The full column, 9 ms: held, the default, overshoots to about twice
+// the static deflection, as a suddenly applied load does; interpolated flips sign every fluid step from
+// 6 ms and passes 36 times the static deflection at 8.3 ms (measured 2026-12-03; the structure's inertia
+// in the PPE, a sixth of it with the ramp, does not hold it: without it the run diverges at 4.2 ms).
 TEST(CoupledPlate, InterpolatedInteractionFailsUnderTheFullColumnWhereHeldHolds) {
   const double full_static = static_deflection(2.0);
   const fs::path held = fresh_dir("coupled_plate_full_held");
-  const auto h = isph(plate_run(held) + " --set end_time=0.006");
+  const auto h = isph(plate_run(held) + " --set end_time=0.009");
   ASSERT_EQ(h.status, 0) << h.output;
   EXPECT_LT(lowest_deflection(held), -1.2 * full_static);
   EXPECT_GT(lowest_deflection(held), -3.0 * full_static);
-  EXPECT_EQ(json_number(read_file(held / "summary.json"), "unconverged_steps"), 0);
 
   const fs::path interpolated = fresh_dir("coupled_plate_full_interpolated");
-  isph(plate_run(interpolated) + " --set end_time=0.006 --set coupling.substep_interaction=\"interpolated\"");
+  isph(plate_run(interpolated) + " --set end_time=0.009 --set coupling.substep_interaction=\"interpolated\"");
   const std::string s = read_file(interpolated / "summary.json");
   const bool diverged = s.find("\"status\": \"diverged\"") != std::string::npos;
   EXPECT_TRUE(diverged || lowest_deflection(interpolated) < -10 * full_static) << s;
@@ -175,20 +177,12 @@ void expect_gate_tip_like_references(const std::string& name, double end, const 
   ASSERT_EQ(r.status, 0) << r.output;
   double lo = 1e300, hi = -1e300;
   for (const char* key : {"khayyer_2018_isph_sph", "yang_2012_sph_fem", "ng_2020_sph_vcpm_alpha_1"}) {
-    std::ifstream in(std::string(ISPH_REFERENCE_DIR) + "/antoci_2007_elastic_gate/ng_2020_elastic_dam_break_x_displacement_" +
-                     key + ".csv");
-    ASSERT_TRUE(in) << key;
-    std::vector<std::pair<double, double>> rows;
-    for (double t, u; in >> t && in.ignore(1) >> u;) rows.emplace_back(t, u);
-    std::sort(rows.begin(), rows.end());
-    for (std::size_t k = 1; k < rows.size(); ++k)
-      if (rows[k].first >= end) {
-        const auto [t0, u0] = rows[k - 1];
-        const auto [t1, u1] = rows[k];
-        const double u = u0 + (u1 - u0) * (end - t0) / (t1 - t0);
-        lo = std::min(lo, u), hi = std::max(hi, u);
-        break;
-      }
+    const auto rows = read_reference(std::string("antoci_2007_elastic_gate/ng_2020_elastic_dam_break_x_displacement_") + key + ".csv");
+    ASSERT_GT(rows.size(), 2u) << key;
+    std::vector<double> t, u;
+    for (const auto& [time, value] : rows) t.push_back(time), u.push_back(value);
+    const double at_end = interpolate(t, u, end);
+    lo = std::min(lo, at_end), hi = std::max(hi, at_end);
   }
   const auto probes = read_csv(out / "probes.csv");
   const double ux = probes.at("tip.ux").back();
@@ -215,10 +209,10 @@ TEST(CoupledGate, WeaklyCompressibleFluidMovesTheTipLikeTheReferences) {
 }
 
 // The gate's PPE (wall rows, structure rows, a broken free surface) with the project's own BiCGSTAB,
-// the solver the GPU runs, at T/dx = 4 over the first 3 ms. Measured 2026-12-03: with the
-// smoothed-aggregation AMG, 13.5 iterations per solve on average (19 at most); with Jacobi, 262 (668 at
-// most). Before the PPE rows' first-moment correction (poisson/ppe_assembly.hpp) Jacobi failed on the
-// first step (1,000 iterations) and the AMG took 16.3.
+// the solver the GPU runs, at T/dx = 4 over the first 3 ms, to the case's tolerance (1e-5). Measured
+// 2026-12-03: with the smoothed-aggregation AMG, 8.8 iterations per solve on average (12 at most); with
+// Jacobi, 152 (191 at most). Before the PPE rows' first-moment correction (poisson/ppe_assembly.hpp)
+// Jacobi failed on the first step (1,000 iterations at a tolerance of 1e-6).
 TEST(CoupledGate, OwnKrylovSolverNeedsTheAmgForTheGatesPressure) {
   const auto run = [](const std::string& name, const std::string& preconditioner) {
     const fs::path out = fresh_dir(name);
@@ -231,8 +225,8 @@ TEST(CoupledGate, OwnKrylovSolverNeedsTheAmgForTheGatesPressure) {
   };
   const std::string amg = run("gate_native_amg", "amg");
   EXPECT_EQ(json_number(amg, "failures"), 0) << amg;
-  EXPECT_NEAR(json_number(amg, "mean_iterations"), 13.5, 1.5) << amg;
-  EXPECT_LT(json_number(amg, "max_iterations"), 25) << amg;
+  EXPECT_NEAR(json_number(amg, "mean_iterations"), 8.8, 0.9) << amg;
+  EXPECT_LT(json_number(amg, "max_iterations"), 16) << amg;
   const std::string jacobi = run("gate_native_jacobi", "jacobi");
   EXPECT_EQ(json_number(jacobi, "failures"), 0) << jacobi;
   EXPECT_GT(json_number(jacobi, "mean_iterations"), 15 * json_number(amg, "mean_iterations")) << jacobi;
@@ -250,7 +244,7 @@ TEST(BundledCases, AllPassCheck) {
 TEST(BadCoupledInput, ClearErrors) {
   const std::string plate = kCases + "hydrostatic_plate.toml";
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"check " + plate + " --set 'bodies.left_wall.shape={type=\"rectangle\",min=[-0.0375,-0.02],max=[0.0,2.1]}'",
+      {"check " + plate + " --set 'bodies.left_wall.shape={type=\"rectangle\",min=[-0.075,-0.02],max=[0.0,2.1]}'",
        "wall particles lie inside this structure body 'plate'"},
       {"check " + plate + " --set 'bodies.plate.clamps=[{type=\"rectangle\",min=[3.0,3.0],max=[3.1,3.1]}]'",
        "the clamp region holds no particle"},

@@ -20,12 +20,6 @@ double mean_over(const std::vector<double>& t, const std::vector<double>& v, dou
   return m;
 }
 
-double interpolate(const std::vector<double>& x, const std::vector<double>& y, double at) {
-  for (std::size_t k = 1; k < x.size(); ++k)
-    if (x[k] >= at) return y[k - 1] + (y[k] - y[k - 1]) * (at - x[k - 1]) / (x[k] - x[k - 1]);
-  return y.back();
-}
-
 // Two columns of a whitespace table with '#' comments.
 std::vector<std::array<double, 2>> read_table(const fs::path& file) {
   std::ifstream in(file);

@@ -289,6 +289,20 @@ TEST_F(CaseLoaderTest, RefinementMakesAStructureFinerThanTheCase) {
   EXPECT_EQ(loaded, 190);
   EXPECT_NEAR(total[1], -950.0, 1e-7);
 
+  // the same body by its own spacing; not both keys; not coarser than the case
+  std::string own = text;
+  own.replace(own.find("refinement = 2"), 14, "dx = 0.005");
+  const Scene<2> by_spacing = build_scene<2>(load_case(write("own_dx.toml", own)));
+  ASSERT_EQ(by_spacing.structure.X.size(), s.X.size());
+  for (std::size_t a = 0; a < s.X.size(); ++a) EXPECT_EQ(norm2(by_spacing.structure.X[a] - s.X[a]), 0.0);
+  std::string both = text;
+  both.replace(both.find("refinement = 2"), 0, "dx = 0.005\n");
+  const auto both_path = write("both.toml", both);
+  EXPECT_TRUE(reports(problems(both_path), both_path + ": bodies[0].dx: give the body's spacing as dx or as refinement, not both"));
+  std::string coarse = text;
+  coarse.replace(coarse.find("refinement = 2"), 14, "dx = 0.02");
+  EXPECT_THROW(build_scene<2>(load_case(write("coarse.toml", coarse))), CaseError);
+
   std::string water = kDamBreak;
   water.replace(water.find("shape = { type = \"rectangle\", min = [0, 0]"), 0, "refinement = 2\n");
   const auto bad = write("refined_water.toml", water);
