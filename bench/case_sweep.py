@@ -42,6 +42,7 @@ CASES = {
     },
     "elastic_gate": {
         "file": "cases/elastic_gate.toml",
+        "sets": ["bodies.gate.refinement=1"],  # the gate at the water's spacing, as the sizes scale both
         "fluid_area": 0.1 * 0.14,
         "fluid_height": 0.14,
         "walls": lambda t: {
@@ -61,7 +62,7 @@ def run_args(case, size, args):
     steps = 20 if size < 5e4 else (8 if size < 5e5 else 3)
     dt = 0.1 * 1.2 * dx / math.sqrt(2 * G * c["fluid_height"])  # Eq. 49 at rest, default courant 0.1
     sets = [f"dx={dx:.9g}", f"end_time={(steps - 0.5) * dt:.9g}", "output.snapshots=false",
-            f"fluid.ppe.backend={args.backend}"]
+            f"fluid.ppe.backend={args.backend}"] + c.get("sets", [])
     if args.preconditioner:
         sets.append(f"fluid.ppe.preconditioner={args.preconditioner}")
     for name, (lo, hi) in c["walls"](3 * dx).items():

@@ -1,10 +1,13 @@
 #!/usr/bin/python3
 """Plots of isph run output. Run with Debian's /usr/bin/python3 (matplotlib, numpy, h5py).
 
-  plot.py probes RUN_DIR [--fields tip.uy,tip.ux] [--reference FILE[:LABEL[:SCALE[:SHIFT]]] ...]
+  plot.py probes RUN_DIR [--fields tip.uy,tip.ux] [--reference FILE[:LABEL[:SCALE[:SHIFT[:TIME_SCALE]]]] ...]
   plot.py energy RUN_DIR
-  plot.py snapshot RUN_DIR [--field NAME] [--index K] [--deformed | --reference]
+  plot.py snapshot RUN_DIR [--field NAME] [--index K | --time T] [--structure-field NAME] [--deformed | --reference]
   plot.py compare --runs DIR1,DIR2,... --field tip.uy [--labels a,b] [--reference SPEC]
+
+Axes carry SI units, taken from the field names (a probe's ux/uy/uz and x in m, p in Pa, u in m/s;
+snapshot fields by name).
 
 Every command takes --out PNG, writes PNG files and prints their paths.
 """
@@ -97,25 +100,27 @@ def read_reference(path):
 
 
 class Reference:
-    """A reference curve from FILE[:LABEL[:COLUMN_SCALE[:TIME_SHIFT]]].
+    """A reference curve from FILE[:LABEL[:COLUMN_SCALE[:TIME_SHIFT[:TIME_SCALE]]]].
 
-    The value column is multiplied by COLUMN_SCALE (default 1) and TIME_SHIFT (default 0) is
-    added to the time column.
+    The value column is multiplied by COLUMN_SCALE (default 1); the time column by TIME_SCALE
+    (default 1), then TIME_SHIFT (default 0) is added: a non-dimensional curve (the dam break's
+    t sqrt(2g/a), x/a) is drawn in seconds and metres.
     """
 
     def __init__(self, spec):
         parts = spec.split(":")
-        if len(parts) > 4:
-            raise PlotError(f"reference {spec!r}: expected FILE[:LABEL[:SCALE[:SHIFT]]]")
-        parts += [""] * (4 - len(parts))
-        path, label, scale, shift = parts
+        if len(parts) > 5:
+            raise PlotError(f"reference {spec!r}: expected FILE[:LABEL[:SCALE[:SHIFT[:TIME_SCALE]]]]")
+        parts += [""] * (5 - len(parts))
+        path, label, scale, shift, time_scale = parts
         try:
             self.scale = float(scale) if scale else 1.0
             self.shift = float(shift) if shift else 0.0
+            self.time_scale = float(time_scale) if time_scale else 1.0
         except ValueError:
-            raise PlotError(f"reference {spec!r}: SCALE and SHIFT must be numbers") from None
+            raise PlotError(f"reference {spec!r}: SCALE, SHIFT and TIME_SCALE must be numbers") from None
         data = read_reference(path)
-        self.time = data[:, 0] + self.shift
+        self.time = data[:, 0] * self.time_scale + self.shift
         self.value = data[:, 1] * self.scale
         self.label = label or Path(path).stem
 
@@ -139,6 +144,19 @@ def probe_columns(run_dir, fields):
     if data.shape[0] == 0:
         raise PlotError(f"{path}: no rows yet")
     return names[t], data[:, t], {field: data[:, names.index(field)] for field in fields}
+
+
+# SI units of the output files' columns and fields (docs/CASES.md, README: outputs).
+PROBE_UNITS = {"ux": "m", "uy": "m", "uz": "m", "x": "m", "p": "Pa", "u": "m/s", "fx": "N/m", "fy": "N/m"}
+FIELD_UNITS = {"pressure": "Pa", "velocity": "m/s", "displacement": "m", "position": "m", "sigma_xx": "Pa",
+               "sigma_yy": "Pa", "sigma_xy": "Pa", "density": "kg/m^3", "shift": "m", "structure_velocity": "m/s",
+               "structure_acceleration": "m/s^2"}
+
+
+def with_unit(name, units):
+    """'name [unit]' where the unit is known: a probe column by its part after the dot, a field by name."""
+    unit = units.get(name.split(".")[-1]) or units.get(name)
+    return f"{name} [{unit}]" if unit else name
 
 
 def split_list(text):
@@ -178,11 +196,11 @@ def cmd_probes(args):
         if k == 0:
             for number, reference in enumerate(references):
                 reference.plot(ax, number)
-        ax.set_ylabel(field)
+        ax.set_ylabel(with_unit(field, PROBE_UNITS))
         ax.grid(True, alpha=0.3)
         if k == 0 and references:
-            ax.legend()
-    axes[-1].set_xlabel(time_name)
+            ax.legend(fontsize=8)
+    axes[-1].set_xlabel(f"{time_name} [s]")
     fig.suptitle(Path(args.run_dir).resolve().name)
     save(fig, args.out or Path(args.run_dir) / "probes.png")
 
@@ -206,28 +224,46 @@ def cmd_energy(args):
         if names[i] != "total" and np.any(data[:, i] != 0):
             ax.plot(data[:, t], data[:, i], linewidth=1.3, label=names[i])
     ax.plot(data[:, t], total, "k-", linewidth=2.0, label="total")
-    ax.set_xlabel(names[t])
-    ax.set_ylabel("energy")
+    ax.set_xlabel(f"{names[t]} [s]")
+    ax.set_ylabel("energy [J per m of depth in 2D, J in 3D]")
     ax.grid(True, alpha=0.3)
     ax.legend()
     ax.set_title(Path(args.run_dir).resolve().name)
     save(fig, args.out or Path(args.run_dir) / "energy.png")
 
 
-def pick_snapshot(run_dir, index):
+def pick_snapshot(run_dir, index, time=None):
+    """The snapshot at `index` among the sorted files, or the one nearest `time` [s] when given."""
     directory = Path(run_dir) / "snapshots"
     files = sorted(directory.glob("snapshot_*.h5"))
     if not files:
         raise PlotError(f"{directory}: no snapshot_*.h5 files")
+    if time is not None:
+        import h5py
+
+        def snapshot_time(path):
+            with h5py.File(path, "r") as f:
+                return float(f.attrs.get("time", np.nan))
+
+        return min(files, key=lambda path: abs(snapshot_time(path) - time))
     if not -len(files) <= index < len(files):
         raise PlotError(f"{directory}: no snapshot at index {index} ({len(files)} files)")
     return files[index]
 
 
+def read_field(snapshot, datasets, path, field):
+    if field not in datasets:
+        raise PlotError(f"{path}: no field {field} (available: {', '.join(datasets)})")
+    values = np.asarray(snapshot[field], dtype=float)
+    if values.ndim > 1:
+        return np.linalg.norm(values.reshape(len(values), -1), axis=1), f"|{field}|"
+    return values, field
+
+
 def cmd_snapshot(args):
     import h5py  # only this command needs it
 
-    path = pick_snapshot(args.run_dir, args.index)
+    path = pick_snapshot(args.run_dir, args.index, args.time)
     try:
         snapshot = h5py.File(path, "r")
     except OSError as error:
@@ -247,37 +283,56 @@ def cmd_snapshot(args):
         if field is None:
             fields = [name for name in datasets if name not in ("position", "reference_position")]
             field = "pressure" if "pressure" in fields else (fields[0] if fields else None)
-        if field is not None and field not in datasets:
-            raise PlotError(f"{path}: no field {field} (available: {', '.join(datasets)})")
-        values = np.asarray(snapshot[field], dtype=float) if field else None
+        values, label = read_field(snapshot, datasets, path, field) if field else (None, None)
+        kind = np.asarray(snapshot["kind"], dtype=int) if "kind" in datasets else None
+        structure_values = structure_label = None
+        if args.structure_field:
+            if kind is None:
+                raise PlotError(f"{path}: no particle kinds (a structure-only run: use --field)")
+            structure_values, structure_label = read_field(snapshot, datasets, path, args.structure_field)
         time = snapshot.attrs.get("time")
 
     if positions.ndim != 2 or positions.shape[1] < 2:
         raise PlotError(f"{path}: {geometry} is not an N x 2 or N x 3 array")
     x, y = positions[:, 0], positions[:, 1]
-    label = field
-    if values is not None and values.ndim > 1:
-        values = np.linalg.norm(values.reshape(len(values), -1), axis=1)
-        label = f"|{field}|"
     if values is not None and len(values) != len(x):
         raise PlotError(f"{path}: {field} has {len(values)} values for {len(x)} particles")
 
     width = max(np.ptp(x) if len(x) else 0.0, 1e-12)
     height = max(np.ptp(y) if len(y) else 0.0, 1e-12)
     aspect = height / width
-    fig = new_figure(10, min(10.0, max(2.5, 9 * aspect)) + 1.2)
+    fig = new_figure(10, min(10.0, max(2.5, 9 * aspect)) + 1.2 + (1.0 if structure_values is not None else 0.0))
     ax = fig.subplots()
-    scatter = ax.scatter(x, y, c=values, s=1.0, cmap="viridis", linewidths=0)
-    ax.set_aspect("equal")
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
-    title = path.name + (f", t = {float(time):.6g}" if time is not None else "")
-    ax.set_title(title + (" (reference configuration)" if geometry != "position" else ""))
-    if values is not None:
-        fig.colorbar(scatter, ax=ax, label=label,
-                     orientation="horizontal" if aspect < 0.5 else "vertical",
+    orientation = "horizontal" if aspect < 0.5 else "vertical"
+    if structure_values is None:
+        scatter = ax.scatter(x, y, c=values, s=1.0, cmap="viridis", linewidths=0)
+        scatters = [scatter]
+        if values is not None:
+            fig.colorbar(scatter, ax=ax, label=with_unit(label, FIELD_UNITS), orientation=orientation, shrink=0.8)
+    else:  # fluid by --field, walls grey, the structure by --structure-field
+        fluid, wall, structure = kind == 0, kind == 1, kind == 2
+        scatters = [ax.scatter(x[wall], y[wall], c="0.7", s=1.0, linewidths=0)]
+        fluid_scatter = ax.scatter(x[fluid], y[fluid], c=values[fluid] if values is not None else None, s=1.0,
+                                   cmap="viridis", linewidths=0)
+        limit = max(float(np.max(np.abs(structure_values[structure]))) if structure.any() else 0.0, 1e-30)
+        structure_scatter = ax.scatter(x[structure], y[structure], c=structure_values[structure], s=1.0,
+                                       cmap="coolwarm", vmin=-limit, vmax=limit, linewidths=0)
+        scatters += [fluid_scatter, structure_scatter]
+        fig.colorbar(fluid_scatter, ax=ax, label=f"fluid {with_unit(label, FIELD_UNITS)}", orientation=orientation,
                      shrink=0.8)
-    set_particle_size(fig, ax, scatter, width, height, len(x))
+        fig.colorbar(structure_scatter, ax=ax, label=f"structure {with_unit(structure_label, FIELD_UNITS)}",
+                     orientation=orientation, shrink=0.8)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    title = path.name + (f", t = {float(time):.6g} s" if time is not None else "")
+    ax.set_title(title + (" (reference configuration)" if geometry != "position" else ""))
+    if args.xlim:
+        ax.set_xlim(*args.xlim)
+    if args.ylim:
+        ax.set_ylim(*args.ylim)
+    for scatter in scatters:
+        set_particle_size(fig, ax, scatter, width, height, len(x))
     out = args.out or Path(args.run_dir) / f"snapshot_{field or geometry}.png"
     save(fig, out)
 
@@ -313,8 +368,8 @@ def cmd_compare(args):
         ax.plot(time, columns[args.field], linewidth=1.3, label=label)
     for number, spec in enumerate(args.reference):
         Reference(spec).plot(ax, number)
-    ax.set_xlabel(time_name)
-    ax.set_ylabel(args.field)
+    ax.set_xlabel(f"{time_name} [s]")
+    ax.set_ylabel(with_unit(args.field, PROBE_UNITS))
     ax.grid(True, alpha=0.3)
     ax.legend()
     save(fig, args.out or f"compare_{args.field}.png")
@@ -326,8 +381,8 @@ def cmd_compare(args):
 def parser():
     top = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     commands = top.add_subparsers(dest="command", required=True)
-    reference_help = ("reference curve FILE[:LABEL[:COLUMN_SCALE[:TIME_SHIFT]]] with columns "
-                      "time,value (comma or whitespace separated, '#' comments, optional "
+    reference_help = ("reference curve FILE[:LABEL[:COLUMN_SCALE[:TIME_SHIFT[:TIME_SCALE]]]] with "
+                      "columns time,value (comma or whitespace separated, '#' comments, optional "
                       "header); repeatable")
 
     probes = commands.add_parser("probes", help="probe values from RUN_DIR/probes.csv")
@@ -349,6 +404,11 @@ def parser():
                                           "vector fields are shown as magnitude")
     snapshot.add_argument("--index", type=int, default=-1,
                           help="snapshot index among the sorted files (default: -1, the last)")
+    snapshot.add_argument("--time", type=float, help="the snapshot nearest this time [s] (instead of --index)")
+    snapshot.add_argument("--structure-field", help="with a fluid: colour the structure particles by this field "
+                                                    "(e.g. sigma_yy), the fluid by --field, walls grey")
+    snapshot.add_argument("--xlim", type=float, nargs=2, metavar=("LO", "HI"), help="x range [m]")
+    snapshot.add_argument("--ylim", type=float, nargs=2, metavar=("LO", "HI"), help="y range [m]")
     geometry = snapshot.add_mutually_exclusive_group()
     geometry.add_argument("--deformed", dest="reference", action="store_false",
                           help="plot current positions (default)")

@@ -72,7 +72,7 @@ SURGE_EXPERIMENTS = ("mm_data_1", "mm_data_2", "ko_data")  # keys of fr.DB_REFER
 
 STUDY_KEYS = ("title", "case", "kind", "metric", "set", "resolution", "step", "stability", "variants")
 VARIANT_KEYS = ("name", "set", "step")
-AXIS_KEYS = ("key", "values", "labels")
+AXIS_KEYS = ("key", "values", "labels", "also")
 STABILITY_KEYS = ("pressure_probe", "pressure_scale", "highpass_window", "noise_from")
 CLASS_COLOURS = {"stable": "#43a047", "degraded": "#fb8c00", "failed": "#e53935", "error": "#757575"}
 
@@ -144,6 +144,9 @@ def plate_deflection(run, reference):
 
 
 METRICS = {f.__name__: f for f in (oscillating_plate, surge_front_rmse, gate_tip_rmse, plate_deflection)}
+# What each metric's error is measured in, for the charts' axes.
+METRIC_UNITS = {"oscillating_plate": "relative", "surge_front_rmse": "in x/a", "gate_tip_rmse": "m",
+                "plate_deflection": "relative"}
 
 
 def mean_of(values, keys):
@@ -305,6 +308,10 @@ def check_axis(axis, where, problems):
         problems.append(f"{where}: needs key and a non-empty values array")
     elif len(axis.setdefault("labels", [format_label(v) for v in axis["values"]])) != len(axis["values"]):
         problems.append(f"{where}.labels: {len(axis['labels'])} labels for {len(axis['values'])} values")
+    for i, also in enumerate(axis.get("also", [])):  # keys swept in step with `key`
+        if not isinstance(also, dict) or not isinstance(also.get("key"), str) or \
+                len(also.get("values", [])) != len(axis.get("values", [])):
+            problems.append(f"{where}.also[{i}]: a {{key, values}} table with one value per value of {where}.key")
 
 
 def format_label(v):
@@ -326,10 +333,11 @@ def plan(study, solver_sets, out):
     points = []
     for v in study["variants"]:
         steps = v.get("step") or {"key": None, "values": [None], "labels": [None]}
-        for value, label in zip(res["values"], res["labels"]):
+        for index, (value, label) in enumerate(zip(res["values"], res["labels"])):
             for step, step_label in zip(steps["values"], steps["labels"]):
                 overrides = (["output.snapshots=false"] + study.get("set", []) + v.get("set", []) + solver_sets
                              + [f"{res['key']}={toml_value(value)}"]
+                             + [f"{also['key']}={toml_value(also['values'][index])}" for also in res.get("also", [])]
                              + ([f"{steps['key']}={toml_value(step)}"] if step is not None else []))
                 run = os.path.join(out, v["name"], folder_name(label),
                                    *([folder_name(step_label)] if step is not None else []))
@@ -417,7 +425,8 @@ def evaluate(point, case, study, reference):
         coupling = s["performance"].get("coupling", {})
         row.update(status=s["status"], message=s["message"], wall_time_s=s["wall_time_s"],
                    simulated_time=s["simulated_time"], steps_fluid=steps["fluid"],
-                   steps_structure=steps["structure"], particles=sum(particles.values()),
+                   steps_structure=steps["structure"],
+                   particles=sum(particles.get(kind, 0) for kind in ("fluid", "wall", "structure")),
                    mean_dt=s["simulated_time"] / (steps["fluid"] or steps["structure"] or math.nan),
                    fluid_inside_structure=coupling.get("fluid_inside_structure_max", 0))
         if "metric" in study and has_rows(point["run"]):
@@ -507,8 +516,9 @@ def study_charts(rows, study, out):
         ax_c.loglog([r["resolution_value"] for r in good], [r["error"] for r in good], "o-", color=line.get_color(),
                     label=f"{v} (order {fmt(observed_order(good), 3)})")
     title = study.get("title", "")
-    ax_p.set(xlabel="wall time [s]", ylabel=f"error ({metric})", title=f"{title}: error against cost")
-    ax_c.set(xlabel=res_key, ylabel=f"error ({metric})", title=f"{title}: convergence")
+    error_label = f"error ({metric}) [{METRIC_UNITS[metric]}]"
+    ax_p.set(xlabel="wall time [s]", ylabel=error_label, title=f"{title}: error against cost")
+    ax_c.set(xlabel=res_key, ylabel=error_label, title=f"{title}: convergence")
     for ax, fig, name in ((ax_p, fig_p, "pareto.png"), (ax_c, fig_c, "convergence.png")):
         ax.grid(alpha=0.3, which="both")
         ax.legend(fontsize=8)

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# Coupled ISPH-TLSPH validation runs (issue: coupled FSI). On 2 cores: the hydrostatic plate at T/dx = 4
-# for 0.5 s takes about 45 minutes, the elastic gate at T/dx = 4 for 0.4 s about an hour, the Walhorn
-# obstacle about 20 minutes (and as long again with OPS shifting, for comparison), the rolling tank at T/dx = 2 about
-# 7 minutes to 0.6 s and an hour for the whole 4.9 s (and 10 minutes for the tank without its baffle); T/dx = 8 and 12 on the plate take
-# many hours (PLATE_FINE=1 runs them), the Liao plate about 10 hours (LIAO=1), the rolling tank as shipped (T/dx = 4) to
+# Coupled ISPH-TLSPH validation runs (issue: coupled FSI). On 2 cores, the cases as shipped (structures
+# twice as fine as the water): the hydrostatic plate (T/dx = 4) for 1 s about 2 minutes, the elastic gate
+# for 0.4 s about half a minute, the Walhorn obstacle as long (and several minutes with OPS shifting, for
+# comparison), the rolling tank at T/dx = 2 about
+# 7 minutes to 0.6 s and an hour for the whole 4.9 s (and 10 minutes for the tank without its baffle); the plate at
+# T/dx = 8, 10 and 12 under the same water (PLATE_FINE=1) an hour or more each, the Liao plate about 10 hours (LIAO=1), the rolling tank as shipped (T/dx = 4) to
 # 1.2 s about 1.5 hours (SLOSHING_T4=1), and on to the whole 4.9 s about 4.5 hours more (SLOSHING_T4=1 SLOSHING_T4_FULL=1). The gate's stability variants: scripts/gate_stability.sh.
 # Writes every run under runs/ (OUT) and then the tables and plots of docs/VALIDATION.md:
 #   bash scripts/validate_coupled.sh            # the runs, then the report
@@ -41,7 +42,7 @@ run() {  # run NAME CASE [--set ...]
 }
 
 if [ "${1:-all}" != "report" ]; then
-  run plate_T4 cases/hydrostatic_plate.toml --set dx=0.0125 "${PLATE[@]}" &
+  run plate_T4 cases/hydrostatic_plate.toml "${PLATE[@]}" &
   run gate_T4 cases/elastic_gate.toml &
   run plate_dry cases/hydrostatic_plate_dry.toml
   wait
@@ -84,11 +85,11 @@ PY
       fi
     fi
   fi
-  if [ -n "${PLATE_FINE:-}" ]; then  # 2, 4 and 7 hours on one core each (2026-12-01)
-    run plate_T8 cases/hydrostatic_plate.toml --set dx=0.00625 "${PLATE[@]}" &
-    run plate_T12 cases/hydrostatic_plate.toml --set dx=0.0041666666666666666 "${PLATE[@]}"
+  if [ -n "${PLATE_FINE:-}" ]; then  # the plate finer under the shipped water (1/60 m)
+    run plate_T8 cases/hydrostatic_plate.toml --set bodies.plate.dx=0.00625 "${PLATE[@]}" &
+    run plate_T12 cases/hydrostatic_plate.toml --set bodies.plate.dx=0.004166666666666667 "${PLATE[@]}"
     wait
-    run plate_T10 cases/hydrostatic_plate.toml --set dx=0.005 "${PLATE[@]}"
+    run plate_T10 cases/hydrostatic_plate.toml --set bodies.plate.dx=0.005 "${PLATE[@]}"
   fi
   if [ -n "${LIAO:-}" ]; then  # the Liao plate at dx = 1 mm, 0.6 s: about 2 hours of one core to the impact at 0.24 s, then about 8 (rates measured beside a second run)
     # without structure-wall contact to 0.31 s (the flow lays the plate flat and pushes it through the
