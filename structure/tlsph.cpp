@@ -474,10 +474,11 @@ void TlsphSolver<D>::restore_state() {
 }
 
 template <int D>
-void TlsphSolver<D>::set_motion(std::span<const Vec<D>> x, std::span<const Vec<D>> v) {
+void TlsphSolver<D>::set_motion(std::span<const Vec<D>> x, std::span<const Vec<D>> v, std::span<const Vec<D>> acc) {
   std::copy(x.begin(), x.end(), x_.begin());
   std::copy(v.begin(), v.end(), v_.begin());
-  verlet_started_ = false;
+  std::copy(acc.begin(), acc.end(), acc_.begin());
+  verlet_started_ = !acc.empty();
   update_stress();
 }
 

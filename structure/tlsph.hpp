@@ -130,8 +130,9 @@ class TlsphSolver {
   void save_state();
   void restore_state();
   // Takes positions and velocities from elsewhere (a restart), indexed as this solver's particles,
-  // and recomputes F and the stress; the explicit scheme starts afresh.
-  void set_motion(std::span<const Vec<D>> x, std::span<const Vec<D>> v);
+  // and recomputes F and the stress. With the acceleration of the step that ended there (acceleration()),
+  // velocity-Verlet goes on as if it had not stopped; without it, the explicit scheme starts afresh.
+  void set_motion(std::span<const Vec<D>> x, std::span<const Vec<D>> v, std::span<const Vec<D>> acc = {});
 
   Index size() const { return n_; }
   Real support() const { return kernels_.largest_support(); }  // the largest of the bodies' kernels
@@ -140,6 +141,7 @@ class TlsphSolver {
   const StateVector<Vec<D>>& reference() const { return X_; }
   const StateVector<Vec<D>>& position() const { return x_; }
   const StateVector<Vec<D>>& velocity() const { return v_; }
+  const StateVector<Vec<D>>& acceleration() const { return acc_; }  // of the last evaluation
   const StateVector<Mat<D>>& deformation_gradient() const { return F_; }
   const StateVector<unsigned char>& fixed() const { return fixed_; }
   Real density(Index a) const { return mass_[a] / volume_[a]; }

@@ -66,8 +66,9 @@ int main(int argc, char** argv) {
   run->add_flag("--quiet", quiet, "no progress line");
   std::string restart;
   run->add_option("--restart", restart,
-                  "continue from a snapshot (.h5) of an earlier run of the same case and --set options; ISPH runs")
-      ->check(CLI::ExistingFile);
+                  "continue an earlier run of the same case and --set options from its snapshot (.h5), or from the "
+                  "newest whole snapshot of its output folder")
+      ->check(CLI::ExistingPath);
 
   auto* check = app.add_subcommand("check", "validate a case file and report every problem");
   check->add_option("case", case_path, "case file (TOML)")->required();
@@ -102,8 +103,9 @@ int main(int argc, char** argv) {
     opt.threads = threads;
     opt.progress = !quiet;
     opt.restart = restart;
+    install_stop_handlers();
     const RunResult r = run_case(spec, opt);
-    return r.status == "completed" ? 0 : 3;
+    return r.status == "completed" ? 0 : r.status == "interrupted" ? 4 : 3;
   } catch (const CaseError& e) {
     return report(e);
   } catch (const std::exception& e) {

@@ -8,11 +8,13 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <locale>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 
 #ifdef ISPH_HAVE_HDF5
 #include <hdf5.h>
@@ -510,5 +512,33 @@ SnapshotData read_snapshot(const std::string& path) {
   throw std::runtime_error("cannot read " + path + ": this build has no HDF5");
 }
 #endif
+
+std::string newest_snapshot(const std::string& run_dir) {
+  namespace fs = std::filesystem;
+  const fs::path folder = fs::is_directory(fs::path(run_dir) / "snapshots") ? fs::path(run_dir) / "snapshots" : fs::path(run_dir);
+  std::vector<std::pair<long long, fs::path>> found;  // snapshot_NNNNN.h5 by its number
+  for (const auto& entry : fs::directory_iterator(folder)) {
+    const std::string name = entry.path().filename().string();
+    constexpr std::string_view prefix = "snapshot_", suffix = ".h5";
+    if (!entry.is_regular_file() || name.size() <= prefix.size() + suffix.size() || !name.starts_with(prefix) ||
+        !name.ends_with(suffix))
+      continue;
+    const std::string digits = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+    if (digits.find_first_not_of("0123456789") == std::string::npos) found.emplace_back(std::stoll(digits), entry.path());
+  }
+  std::sort(found.begin(), found.end(), std::greater<>());
+  std::string passed_over;
+  for (const auto& [number, file] : found) {
+    try {
+      read_snapshot(file.string());
+      if (!passed_over.empty()) std::fprintf(stderr, "restart: passed over %s (unreadable)\n", passed_over.c_str());
+      return file.string();
+    } catch (const std::exception& e) {
+      passed_over += (passed_over.empty() ? "" : ", ") + file.filename().string() + ": " + e.what();
+    }
+  }
+  throw std::runtime_error("restart: no snapshot in " + folder.string() + " reads back whole" +
+                           (passed_over.empty() ? "" : " (" + passed_over + ")"));
+}
 
 }  // namespace isph

@@ -105,4 +105,9 @@ struct SnapshotData {
 // when HDF5 is not built in.
 SnapshotData read_snapshot(const std::string& path);
 
+// The newest snapshot of a run folder (DIR/snapshots/snapshot_NNNNN.h5, or DIR itself holding them)
+// that reads back whole: one that does not (a damaged file) is passed over, with a note on stderr.
+// Throws std::runtime_error when there is none.
+std::string newest_snapshot(const std::string& run_dir);
+
 }  // namespace isph

@@ -165,6 +165,17 @@ void ParticleSet<D>::restore(const SnapshotData& snapshot) {
     reorder(keep.data(), static_cast<Index>(keep.size()));
     fluid_count_ -= removed;
   }
+  if (const auto memory = snapshot.fields.find("memory_row"); memory != snapshot.fields.end()) {
+    StateVector<Index> order(static_cast<std::size_t>(size()), -1, allocator<Index>());
+    for (Index a = 0; a < size(); ++a) {
+      const double r = memory->second.data[static_cast<std::size_t>(row[id[a]])];
+      if (!(r >= 0 && r < size()) || order[static_cast<Index>(r)] >= 0) throw mismatch("its memory_row field is not a permutation");
+      order[static_cast<Index>(r)] = a;
+    }
+    reorder(order.data(), size());
+  }
+  if (const auto searches = snapshot.attributes.find("neighbour_searches"); searches != snapshot.attributes.end())
+    neighbour_searches_ = static_cast<long long>(searches->second);
   time = snapshot.time;
   const auto work = snapshot.attributes.find("wall_work");
   wall_work = work != snapshot.attributes.end() ? work->second : 0;

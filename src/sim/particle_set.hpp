@@ -154,6 +154,9 @@ class ParticleSet {
   bool has_moving_walls() const { return !motions_.empty(); }
   // Counts the re-sorts and removals: the particles' order is that of the last count.
   long long order_version() const { return order_version_; }
+  // Neighbour searches so far: every kSortInterval-th re-sorts (a snapshot keeps the count, so that a
+  // restart re-sorts where the uninterrupted run does).
+  long long neighbour_searches() const { return neighbour_searches_; }
 
   // The plain view the particle loops read (positions, volumes, levels, the neighbour list of the
   // last search, kinds, boundary data).
@@ -229,7 +232,9 @@ class ParticleSet {
   // Continues from a snapshot of the same case (a restart): positions, velocities, pressures, the time
   // and the moving walls' work, matched by stable id. Fluid particles the snapshot lacks (removed
   // after leaving the tank) are removed; a wall or structure particle it lacks, an id this case does
-  // not have, or a particle of another kind is an error naming the snapshot.
+  // not have, or a particle of another kind is an error naming the snapshot. Where the snapshot has
+  // them ("memory_row", "neighbour_searches"), the particles take the order they had in memory and the
+  // search count, so that the continued run sums over neighbours in the same order.
   void restore(const SnapshotData& snapshot);
 
  private:
@@ -286,6 +291,8 @@ class FluidModel {
   virtual Real time_step() const = 0;
   // The model's own fields for snapshots (in stable-id order: field value k belongs to particle slot[k]).
   virtual void add_snapshot_fields(const std::vector<Index>& slot, std::vector<SnapshotField>& fields) const = 0;
+  // The model's own state from a snapshot, after particles().restore() (a restart).
+  virtual void restore_fields(const SnapshotData&) {}
 };
 
 }  // namespace isph

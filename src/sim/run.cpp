@@ -1,10 +1,12 @@
 #include "sim/run.hpp"
 
 #include <omp.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
@@ -21,6 +23,16 @@ namespace isph {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+volatile std::sig_atomic_t g_stop_signal = 0;
+
+// Async-signal-safe: sets the flag, or ends the process on the second signal.
+extern "C" void on_stop_signal(int signal) {
+  if (g_stop_signal != 0) _exit(128 + signal);
+  g_stop_signal = signal;
+  static const char note[] = "\nisph: stopping at the end of this step (a second signal stops at once)\n";
+  [[maybe_unused]] const ssize_t written = write(STDERR_FILENO, note, sizeof note - 1);
+}
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -83,8 +95,9 @@ class RunFrame {
     out_interval_ = spec_.output.interval > 0 ? spec_.output.interval : steps * dt;
     next_out_ = out_interval_;
   }
-  // A restarted run: the schedules continue after t, and the probe and energy rows before t come from
-  // the earlier run's folder (the snapshot's folder's parent) when it has them.
+  // A restarted run: the schedules continue after t, and the probe and energy rows up to t come from
+  // the earlier run's folder (the snapshot's folder's parent) when it has them: the rows the
+  // uninterrupted run wrote there.
   void start_at(double t, const std::string& snapshot, bool complete) {
     start_time_ = t;
     restarted_ = true;
@@ -96,7 +109,7 @@ class RunFrame {
       throw std::runtime_error("restart: write the continued run to another folder than " + earlier.string() +
                                " (--out), whose snapshots it would overwrite");
     for (auto [table, name] : {std::pair{&probes, "probes.csv"}, std::pair{&energy, "energy.csv"}})
-      if (std::filesystem::exists(earlier / name)) table->add_rows_before((earlier / name).string(), t - CsvTable::kRelativeResolution * spec_.end_time);
+      if (std::filesystem::exists(earlier / name)) table->add_rows_before((earlier / name).string(), t + CsvTable::kRelativeResolution * spec_.end_time);
   }
   bool due_record(double t, bool last) {
     if (!(t >= next_out_ - 1e-12 * spec_.end_time) && !last) return false;
@@ -132,6 +145,21 @@ class RunFrame {
     result.status = "diverged";
     result.message = message;
   }
+  // A stop signal arrived (stop_signal()): the run ends after the step that reached t.
+  void interrupt(double t, long long step) {
+    const int signal = stop_signal();
+    stop_signal_name_ = signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "signal " + std::to_string(signal);
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "%s received: stopped at the end of step %lld, t = %.6g s", stop_signal_name_.c_str(),
+                  step, t);
+    result.status = "interrupted";
+    result.message = buf;
+  }
+  // The last snapshot of a run that ends early: after a divergence where the case writes snapshots,
+  // after a stop wherever HDF5 is built in (the run is to be continued from it).
+  bool last_snapshot_due() const {
+    return write_snapshots_ || (result.status == "interrupted" && SnapshotWriter::available());
+  }
 
   // Writes summary.json and the closing line.
   void finish(int dimension, const JsonObject& particles, long long fluid_steps, long long structure_steps,
@@ -155,6 +183,7 @@ class RunFrame {
         .set("status", result.status)
         .set("message", result.message);
     if (restarted_) summary.set("restart", restart_);
+    if (!stop_signal_name_.empty()) summary.set("stop_signal", stop_signal_name_);
     if (device_emulated()) {  // --device debug: the host's touches of device memory, per phase
       JsonObject touches, debug;
       for (const auto& [k, v] : timer.host_touches()) touches.set(k, v);
@@ -183,6 +212,7 @@ class RunFrame {
   double start_time_ = 0;
   bool restarted_ = false;
   JsonObject restart_;  // the snapshot a restarted run continues from
+  std::string stop_signal_name_;  // of an interrupted run
 };
 
 JsonObject particle_counts(long long fluid, long long wall, long long structure) {
@@ -195,15 +225,18 @@ JsonObject particle_counts(long long fluid, long long wall, long long structure)
 // Structure only (TLSPH)
 // ------------------------------------------------------------------------------------------------
 
-// Writes the fields of the structure particles, in stable-id order.
+// Writes the fields of the structure particles, in stable-id order, with what a restart needs besides
+// positions and velocities: the last acceleration (velocity-Verlet's) and the loads' work.
 template <int D>
-void write_structure_snapshot(SnapshotWriter& writer, double t, TlsphSolver<D>& solver, const Scene<D>& scene) {
+void write_structure_snapshot(SnapshotWriter& writer, double t, TlsphSolver<D>& solver, const Scene<D>& scene,
+                              Real boundary_work) {
   const Index n = solver.size();
   std::vector<Index> slot(n);
   for (Index a = 0; a < n; ++a) slot[scene.structure_id[a]] = a;
   std::vector<std::array<double, 3>> pos(n);
   SnapshotField disp{"displacement", 3, std::vector<double>(3 * n, 0.0)};
   SnapshotField vel{"velocity", 3, std::vector<double>(3 * n, 0.0)};
+  SnapshotField acc{"acceleration", 3, std::vector<double>(3 * n, 0.0)};
   SnapshotField ref{"reference_position", 3, std::vector<double>(3 * n, 0.0)};
   SnapshotField sxx{"sigma_xx", 1, std::vector<double>(n)}, syy{"sigma_yy", 1, std::vector<double>(n)},
       sxy{"sigma_xy", 1, std::vector<double>(n)};
@@ -214,6 +247,7 @@ void write_structure_snapshot(SnapshotWriter& writer, double t, TlsphSolver<D>& 
     pos[k] = to_array(solver.position()[a]);
     put_vector(disp, k, solver.position()[a] - solver.reference()[a]);
     put_vector(vel, k, solver.velocity()[a]);
+    put_vector(acc, k, solver.acceleration()[a]);
     put_vector(ref, k, solver.reference()[a]);
     const Mat<D> sigma = solver.cauchy_stress(a);
     sxx.data[k] = sigma(0, 0);
@@ -223,7 +257,41 @@ void write_structure_snapshot(SnapshotWriter& writer, double t, TlsphSolver<D>& 
     body.data[k] = scene.structure_body[a];
     fixed.data[k] = solver.fixed()[a];
   }
-  writer.write(t, pos, {disp, vel, ref, sxx, syy, sxy, id, body, fixed});
+  writer.write(t, pos, {disp, vel, acc, ref, sxx, syy, sxy, id, body, fixed},
+               {{"boundary_work", boundary_work}, {"clamp_work", solver.clamp_work()}});
+}
+
+// Continues a structure-only run from its snapshot: positions, velocities and the last acceleration by
+// stable id, and the clamps' work; returns the loads' work. A snapshot of another case is refused.
+template <int D>
+Real restore_structure(const SnapshotData& state, TlsphSolver<D>& solver, const Scene<D>& scene) {
+  const Index n = solver.size();
+  const auto mismatch = [&](const std::string& what) {
+    return std::runtime_error("restart: " + state.path + " is not a snapshot of this case: " + what);
+  };
+  if (state.size() != static_cast<std::size_t>(n))
+    throw mismatch(std::to_string(state.size()) + " particles against the case's " + std::to_string(n));
+  const SnapshotField &x = state.field("position"), &v = state.field("velocity"), &X = state.field("reference_position");
+  const auto acc = state.fields.find("acceleration");
+  const std::vector<long long> row = state.rows_by_id();
+  std::vector<Vec<D>> xs(n), vs(n), as(acc != state.fields.end() ? n : 0);
+  for (Index a = 0; a < n; ++a) {
+    const Index k = scene.structure_id[a];
+    const long long r = static_cast<std::size_t>(k) < row.size() ? row[k] : -1;
+    if (r < 0) throw mismatch("it lacks particle id " + std::to_string(k));
+    if (norm2(snapshot_vector<D>(X, r) - solver.reference()[a]) > 1e-20 * scene.body_extent * scene.body_extent)
+      throw mismatch("particle id " + std::to_string(k) + " has another reference position");
+    xs[a] = snapshot_vector<D>(x, r);
+    vs[a] = snapshot_vector<D>(v, r);
+    if (!as.empty()) as[a] = snapshot_vector<D>(acc->second, r);
+  }
+  solver.set_motion(xs, vs, as);
+  const auto attribute = [&](const char* name) {
+    const auto it = state.attributes.find(name);
+    return it != state.attributes.end() ? it->second : 0.0;
+  };
+  solver.set_clamp_work(attribute("clamp_work"));
+  return attribute("boundary_work");
 }
 
 // Probe columns and values of the displacement probes: u at the probe point by the particle's own
@@ -256,7 +324,6 @@ std::string structure_divergence_message(const Scene<D>& scene, Index bad, Real 
 
 template <int D>
 RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene, PhaseTimer& timer) {
-  if (!opt.restart.empty()) throw std::runtime_error("--restart continues runs with a fluid; this case has none");
   std::vector<std::string> columns;
   add_displacement_columns(scene, columns);
   RunFrame frame(spec, opt, columns, D);
@@ -284,14 +351,33 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& s
   };
   auto snapshot = [&](Real t) {
     timer.time("output", [&] {
-      write_structure_snapshot(frame.snapshots, t, solver, scene);
+      write_structure_snapshot(frame.snapshots, t, solver, scene, boundary_work);
       frame.flush();
     });
   };
 
-  record(0);
-  if (frame.writes_snapshots()) snapshot(0);
-  long long step = 0;
+  // A restart continues on the same steps of dt: the snapshot lies at the end of step first_step.
+  long long first_step = 0;
+  if (!opt.restart.empty()) {
+    timer.time("setup", [&] {
+      const SnapshotData state = read_snapshot(opt.restart);
+      first_step = std::llround(state.time / dt);
+      if (first_step >= steps)
+        throw std::runtime_error("restart: " + opt.restart + " is at t = " + std::to_string(state.time) +
+                                 " s, not before end_time; raise it with --set end_time=...");
+      if (std::fabs(first_step * dt - state.time) > 1e-9 * dt)
+        throw std::runtime_error("restart: " + opt.restart + " is at t = " + std::to_string(state.time) +
+                                 " s, between two steps of this case (dt = " + std::to_string(dt) +
+                                 " s): its end_time or structure.courant differ from the earlier run's");
+      boundary_work = restore_structure(state, solver, scene);
+      frame.start_at(first_step * dt, opt.restart, true);
+      if (opt.progress)
+        std::fprintf(stderr, "[%s] continuing from %s at t = %.6g s\n", spec.name.c_str(), opt.restart.c_str(), state.time);
+    });
+  }
+  if (first_step == 0) record(0);  // a restart carries the earlier run's rows
+  if (frame.writes_snapshots()) snapshot(first_step * dt);
+  long long step = first_step;
   const bool loaded = !scene.structure.loads.empty();
   for (; step < steps; ++step) {
     const Real t = step * dt;
@@ -303,15 +389,18 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& s
       const Index bad = solver.first_runaway(10 * scene.body_extent);
       if (bad >= 0) {
         frame.diverge(structure_divergence_message(scene, bad, t1, step + 1));
-        ++step;
-        record(t1);
-        if (frame.writes_snapshots()) snapshot(t1);
-        break;
       }
+    }
+    if (frame.result.status == "completed" && stop_signal() != 0 && step + 1 < steps) frame.interrupt(t1, step + 1);
+    if (frame.result.status != "completed") {
+      ++step;
+      if (frame.result.status == "diverged" || frame.due_record(t1, false)) record(t1);
+      if (frame.last_snapshot_due()) snapshot(t1);
+      break;
     }
     if (frame.due_record(t1, step + 1 == steps)) record(t1);
     if (frame.due_snapshot(t1)) snapshot(t1);
-    frame.progress(t1, step + 1, timer.get("structure"));
+    frame.progress(t1, step + 1 - first_step, timer.get("structure"));
   }
   if (frame.result.status == "completed" && frame.final_snapshot_due()) snapshot(spec.end_time);
 
@@ -324,9 +413,9 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& s
       .set("structure_pairs", static_cast<long long>(solver.pairs()))
       .set("pair_evaluations", static_cast<long long>(solver.pair_evaluations()))
       .set("pair_evaluations_per_s", t_struct > 0 ? solver.pair_evaluations() / t_struct : 0.0)
-      .set("particle_steps_per_s", t_struct > 0 ? double(solver.size()) * step / t_struct : 0.0);
-  frame.finish(D, particle_counts(scene.fluid_particles, scene.wall_particles, solver.size()), 0, step, step * dt,
-               timer, ppe, perf);
+      .set("particle_steps_per_s", t_struct > 0 ? double(solver.size()) * (step - first_step) / t_struct : 0.0);
+  frame.finish(D, particle_counts(scene.fluid_particles, scene.wall_particles, solver.size()), 0, step - first_step,
+               step * dt, timer, ppe, perf);
   return frame.result;
 }
 
@@ -349,7 +438,7 @@ void write_fluid_snapshot(SnapshotWriter& writer, double t, const FluidModel<D>&
   std::vector<std::array<double, 3>> pos(n);
   SnapshotField vel{"velocity", 3, std::vector<double>(3 * n, 0.0)};
   SnapshotField p{"pressure", 1, std::vector<double>(n)}, kind{"kind", 1, std::vector<double>(n)},
-      id{"id", 1, std::vector<double>(n)};
+      id{"id", 1, std::vector<double>(n)}, memory_row{"memory_row", 1, std::vector<double>(n)};
   SnapshotField sxx{"sigma_xx", 1, std::vector<double>(n, 0.0)}, syy{"sigma_yy", 1, std::vector<double>(n, 0.0)},
       sxy{"sigma_xy", 1, std::vector<double>(n, 0.0)};
   for (Index k = 0; k < n; ++k) {
@@ -365,10 +454,12 @@ void write_fluid_snapshot(SnapshotWriter& writer, double t, const FluidModel<D>&
     p.data[k] = particles.pressure[a];
     kind.data[k] = static_cast<double>(particles.kind[a]);  // 0 fluid, 1 wall, 2 structure
     id.data[k] = particles.id[a];
+    memory_row.data[k] = a;
   }
-  std::vector<SnapshotField> fields{vel, p, kind, id};
+  std::vector<SnapshotField> fields{vel, p, kind, id, memory_row};
   model.add_snapshot_fields(slot, fields);
-  SnapshotAttributes restart_state{{"wall_work", particles.wall_work}};
+  SnapshotAttributes restart_state{{"wall_work", particles.wall_work},
+                                   {"neighbour_searches", static_cast<double>(particles.neighbour_searches())}};
   if (coupling) {
     fields.insert(fields.end(), {sxx, syy, sxy});
     coupling->add_snapshot_fields(particles, slot, fields);
@@ -451,13 +542,13 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
 
   Real t = 0;
   if (!opt.restart.empty()) {
-    if (!isph) throw std::runtime_error("--restart continues ISPH runs; this case's fluid.model is " + spec.fluid.model);
     timer.time("setup", [&] {
       const SnapshotData state = read_snapshot(opt.restart);
       if (state.time >= spec.end_time * (1 - 1e-12))
         throw std::runtime_error("restart: " + opt.restart + " is at t = " + std::to_string(state.time) +
                                  " s, not before end_time; raise it with --set end_time=...");
       particles.restore(state);
+      model.restore_fields(state);
       const bool complete = coupling ? coupling->restore(state, particles) : true;
       t = state.time;
       frame.start_at(t, opt.restart, complete);
@@ -468,7 +559,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
     });
   }
   const Real start_time = t;
-  record(t);
+  if (opt.restart.empty()) record(t);  // a restart carries the earlier run's rows
   if (frame.writes_snapshots()) snapshot(t);
   long long step = 0, solves = 0, iterations = 0, max_iterations = 0, failures = 0, removed_total = 0;
   const Index initial_fluid = particles.fluid_count();
@@ -541,9 +632,12 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
         frame.diverge(buf);
       }
     }
+    if (frame.result.status == "completed" && stop_signal() != 0 && t < spec.end_time - eps) frame.interrupt(t, step);
     if (frame.result.status != "completed") {
-      record(t);
-      if (frame.writes_snapshots()) snapshot(t);
+      // An interrupted run keeps the output schedule, so that its continuation writes what an
+      // uninterrupted run would; a diverged one records its last state.
+      if (frame.result.status == "diverged" || frame.due_record(t, false)) record(t);
+      if (frame.last_snapshot_due()) snapshot(t);
       break;
     }
     if (frame.due_record(t, t >= spec.end_time - eps)) record(t);
@@ -596,7 +690,20 @@ RunResult run_dimension(const CaseSpec& spec, const RunOptions& opt) {
 
 RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
   if (options.threads > 0) omp_set_num_threads(options.threads);
-  return spec.dimension == 3 ? run_dimension<3>(spec, options) : run_dimension<2>(spec, options);
+  RunOptions opt = options;
+  if (!opt.restart.empty() && std::filesystem::is_directory(opt.restart)) opt.restart = newest_snapshot(opt.restart);
+  return spec.dimension == 3 ? run_dimension<3>(spec, opt) : run_dimension<2>(spec, opt);
 }
+
+void install_stop_handlers() {
+  struct sigaction action {};
+  action.sa_handler = on_stop_signal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+int stop_signal() { return g_stop_signal; }
 
 }  // namespace isph

@@ -182,9 +182,39 @@ void WcsphSolver<D>::acoustic_step(Real dt, PhaseTimer& timer, const AcousticHoo
 
 template <int D>
 void WcsphSolver<D>::add_snapshot_fields(const std::vector<Index>& slot, std::vector<SnapshotField>& fields) const {
-  SnapshotField density{"density", 1, std::vector<double>(slot.size())};
-  for (std::size_t k = 0; k < slot.size(); ++k) density.data[k] = rho_[slot[k]];
-  fields.push_back(density);
+  const std::size_t n = slot.size();
+  SnapshotField density{"density", 1, std::vector<double>(n)};
+  SnapshotField acceleration{"pressure_acceleration", 3, std::vector<double>(3 * n, 0.0)};
+  SnapshotField boundary_force{"boundary_force", 3, std::vector<double>(3 * n, 0.0)};
+  for (std::size_t k = 0; k < n; ++k) {
+    const Index a = slot[k];
+    density.data[k] = rho_[a];
+    for (int d = 0; d < D; ++d) {
+      acceleration.data[3 * k + d] = acceleration_[a][d];
+      boundary_force.data[3 * k + d] = particles_.boundary_force[a][d];
+    }
+  }
+  fields.insert(fields.end(), {density, acceleration, boundary_force});
+}
+
+// The Verlet step's a^n and the force on walls and structures come from the snapshot, not from a new
+// evaluation: they were evaluated with v^{n-1/2}, which the snapshot does not hold.
+template <int D>
+void WcsphSolver<D>::restore_fields(const SnapshotData& snapshot) {
+  const SnapshotField& density = snapshot.field("density");
+  const auto acceleration = snapshot.fields.find("pressure_acceleration");
+  const auto boundary_force = snapshot.fields.find("boundary_force");
+  const bool forces = acceleration != snapshot.fields.end() && boundary_force != snapshot.fields.end();
+  const std::vector<long long> row = snapshot.rows_by_id();
+  for (Index a = 0; a < particles_.size(); ++a) {
+    const auto r = static_cast<std::size_t>(row[particles_.id[a]]);
+    rho_[a] = density.data[r];
+    if (forces) {
+      acceleration_[a] = snapshot_vector<D>(acceleration->second, r);
+      particles_.boundary_force[a] = snapshot_vector<D>(boundary_force->second, r);
+    }
+  }
+  forces_current_ = forces;
 }
 
 template class WcsphSolver<2>;

@@ -46,8 +46,9 @@ class WcsphSolver final : public FluidModel<D> {
 
   // One advection step (dual criteria) or one acoustic step (single criterion).
   Real time_step() const override;
-  // Density.
+  // Density, the pressure acceleration and the force on walls and structures (a restart's state).
   void add_snapshot_fields(const std::vector<Index>& slot, std::vector<SnapshotField>& fields) const override;
+  void restore_fields(const SnapshotData& snapshot) override;
 
   // Called for every acoustic step [t, t + dt] before the fluid moves: a coupled structure advances and
   // hands its motion to the fluid (move_structure, set_structure_acceleration).

@@ -64,8 +64,8 @@ TEST(CoupledPlate, DeflectsDownwardsByTheStaticDeflectionWithoutPenetration) {
 }
 
 // A run continued from a snapshot (--restart) carries the earlier rows and follows the uninterrupted
-// run: the same time steps, and deflections within 1e-3 of the peak (measured 2026-12-03: 1.3e-5 of
-// it; the particle order and the AMG hierarchy start afresh). The case's two interface iterations take
+// run: the same time steps, and deflections within 1e-4 of the peak (measured 2026-12-03: 1.3e-5 of
+// it; the AMG hierarchy kept across steps starts afresh, and the PPE is solved to 1e-5). The case's two interface iterations take
 // their second iterate from the quasi-Newton columns of earlier steps, so the snapshot carries them:
 // without them the first step after the restart ended 2.6 times deeper. Restarting into the earlier
 // run's folder, past end_time, or from a snapshot of another resolution is refused with a message.
@@ -87,15 +87,18 @@ TEST(CoupledPlate, RestartFollowsTheUninterruptedRun) {
   const auto& ua = a.at("midspan.uy");
   const double peak = std::fabs(*std::min_element(ua.begin(), ua.end()));
   std::size_t after = 0;
+  double departure = 0;
   for (std::size_t k = 0; k < ua.size(); ++k) {
     EXPECT_NEAR(a.at("time")[k], b.at("time")[k], 1e-12) << "row " << k;
-    if (a.at("time")[k] < t0 - 1e-9) {
+    if (a.at("time")[k] < t0 + 1e-9) {
       EXPECT_EQ(ua[k], b.at("midspan.uy")[k]) << "carried row " << k;
     } else {
       ++after;
-      EXPECT_NEAR(ua[k], b.at("midspan.uy")[k], 1e-3 * peak) << "t = " << a.at("time")[k];
+      departure = std::max(departure, std::fabs(ua[k] - b.at("midspan.uy")[k]) / peak);
     }
   }
+  EXPECT_LT(departure, 1e-4);
+  std::cout << "largest departure after the restart: " << departure << " of the peak\n";
   EXPECT_GE(after, 5u);  // every fluid step (1.28 ms) from 6.4 ms to 12 ms
 
   const auto same_folder = run_small_plate(full, " --restart " + snapshot.string());

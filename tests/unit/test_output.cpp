@@ -313,6 +313,28 @@ TEST_F(OutputTest, SnapshotReadsBackWhatWasWritten) {
 #endif
 }
 
+// A restart from a run's folder takes its newest snapshot that reads back: one cut short or damaged
+// (here a text file under a snapshot's name) is passed over, and so are names of other files.
+TEST_F(OutputTest, NewestSnapshotPassesOverOneThatDoesNotReadBack) {
+#ifndef ISPH_HAVE_HDF5
+  GTEST_SKIP() << "built without HDF5";
+#else
+  SnapshotWriter writer(dir_.string(), 2);
+  const std::vector<std::array<double, 3>> positions{{0.5, 1.0, 0.0}};
+  for (double t : {0.0, 0.5}) writer.write(t, positions, {{"id", 1, {0}}});
+  const fs::path snapshots = dir_ / "snapshots";
+  EXPECT_EQ(newest_snapshot(dir_.string()), (snapshots / "snapshot_00001.h5").string());
+  std::ofstream(snapshots / "snapshot_00002.h5") << "cut short";
+  std::ofstream(snapshots / "snapshot_00003.h5.tmp") << "cut short";
+  std::ofstream(snapshots / "snapshot_x.h5") << "not a snapshot's name";
+  EXPECT_EQ(newest_snapshot(dir_.string()), (snapshots / "snapshot_00001.h5").string());
+  EXPECT_EQ(newest_snapshot(snapshots.string()), (snapshots / "snapshot_00001.h5").string());
+  const fs::path empty = dir_ / "empty";
+  fs::create_directories(empty);
+  EXPECT_THROW(newest_snapshot(empty.string()), std::runtime_error);
+#endif
+}
+
 TEST_F(OutputTest, CsvTableCarriesTheRowsBeforeATime) {
   const fs::path earlier = dir_ / "earlier.csv";
   std::ofstream(earlier) << "time,a\n0,1\n0.5,2\n1,3\n1.5,4\n";
