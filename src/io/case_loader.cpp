@@ -1124,6 +1124,7 @@ void write_fluid(std::ostream& out, const FluidSpec& f) {
       << "surface_threshold = " << toml_float(f.surface_threshold) << "\n"
       << "surface_full = " << toml_float(f.surface_full) << "\n"
       << "surface_pressure = " << quote(f.surface_pressure) << "\n"
+      << "escape = " << quote(f.escape) << "\n"
       << "\n[fluid.shifting]\n"
       << "type = " << quote(f.shifting.type) << "\n"
       << "coefficient = " << toml_float(f.shifting.coefficient) << "\n"
