@@ -5,6 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake git pkg-config
+  clang-format             # scripts/check_format.sh (CI)
   libeigen3-dev            # dense small matrices in tests and the CPU sparse solvers
   libtoml11-dev            # case files
   libcli11-dev             # command line

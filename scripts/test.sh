@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# Set-up, build, and every test (CTest labels unit, regression, device). Device tests skip without
-# a GPU; ISPH_REQUIRE_GPU_TESTS=1 makes that skip a failure.
+# Set-up, build with warnings as errors, and every test (CTest labels unit, regression, device; the
+# quick tier is `ctest -L quick`). Device tests skip without a GPU; ISPH_REQUIRE_GPU_TESTS=1 makes that
+# skip a failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/build.sh
+ISPH_WERROR=ON bash scripts/build.sh
+bash scripts/check_format.sh  # the C++ lines the last commit changed follow .clang-format
 cd build
 ctest --output-on-failure -j "$(nproc)" --timeout 900
 cd ..
@@ -11,7 +13,7 @@ cd ..
 # present, the build above has it, so the library and the unit and device tests are built once more
 # without it (build-no-cuda/) and run there: neither configuration can rot unseen.
 if command -v nvcc > /dev/null || [ -x /usr/local/cuda/bin/nvcc ]; then
-  cmake -S . -B build-no-cuda -DCMAKE_BUILD_TYPE=Release -DISPH_CUDA=OFF
+  cmake -S . -B build-no-cuda -DCMAKE_BUILD_TYPE=Release -DISPH_CUDA=OFF -DISPH_WERROR=ON
   cmake --build build-no-cuda -j "$(nproc)" --target isph_unit_tests isph_device_tests
   build-no-cuda/isph_unit_tests --gtest_brief=1
   build-no-cuda/isph_device_tests --gtest_brief=1

@@ -515,7 +515,8 @@ SnapshotData read_snapshot(const std::string& path) {
 
 std::string newest_snapshot(const std::string& run_dir) {
   namespace fs = std::filesystem;
-  const fs::path folder = fs::is_directory(fs::path(run_dir) / "snapshots") ? fs::path(run_dir) / "snapshots" : fs::path(run_dir);
+  const fs::path folder =
+      fs::is_directory(fs::path(run_dir) / "snapshots") ? fs::path(run_dir) / "snapshots" : fs::path(run_dir);
   std::vector<std::pair<long long, fs::path>> found;  // snapshot_NNNNN.h5 by its number
   for (const auto& entry : fs::directory_iterator(folder)) {
     const std::string name = entry.path().filename().string();
@@ -524,7 +525,8 @@ std::string newest_snapshot(const std::string& run_dir) {
         !name.ends_with(suffix))
       continue;
     const std::string digits = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
-    if (digits.find_first_not_of("0123456789") == std::string::npos) found.emplace_back(std::stoll(digits), entry.path());
+    if (digits.find_first_not_of("0123456789") == std::string::npos)
+      found.emplace_back(std::stoll(digits), entry.path());
   }
   std::sort(found.begin(), found.end(), std::greater<>());
   std::string passed_over;

@@ -169,7 +169,8 @@ void ParticleSet<D>::restore(const SnapshotData& snapshot) {
     StateVector<Index> order(static_cast<std::size_t>(size()), -1, allocator<Index>());
     for (Index a = 0; a < size(); ++a) {
       const double r = memory->second.data[static_cast<std::size_t>(row[id[a]])];
-      if (!(r >= 0 && r < size()) || order[static_cast<Index>(r)] >= 0) throw mismatch("its memory_row field is not a permutation");
+      if (!(r >= 0 && r < size()) || order[static_cast<Index>(r)] >= 0)
+        throw mismatch("its memory_row field is not a permutation");
       order[static_cast<Index>(r)] = a;
     }
     reorder(order.data(), size());

@@ -109,7 +109,8 @@ class RunFrame {
       throw std::runtime_error("restart: write the continued run to another folder than " + earlier.string() +
                                " (--out), whose snapshots it would overwrite");
     for (auto [table, name] : {std::pair{&probes, "probes.csv"}, std::pair{&energy, "energy.csv"}})
-      if (std::filesystem::exists(earlier / name)) table->add_rows_before((earlier / name).string(), t + CsvTable::kRelativeResolution * spec_.end_time);
+      if (std::filesystem::exists(earlier / name))
+        table->add_rows_before((earlier / name).string(), t + CsvTable::kRelativeResolution * spec_.end_time);
   }
   bool due_record(double t, bool last) {
     if (!(t >= next_out_ - 1e-12 * spec_.end_time) && !last) return false;
@@ -148,10 +149,12 @@ class RunFrame {
   // A stop signal arrived (stop_signal()): the run ends after the step that reached t.
   void interrupt(double t, long long step) {
     const int signal = stop_signal();
-    stop_signal_name_ = signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "signal " + std::to_string(signal);
+    stop_signal_name_ = signal == SIGINT    ? "SIGINT"
+                        : signal == SIGTERM ? "SIGTERM"
+                                            : "signal " + std::to_string(signal);
     char buf[256];
-    std::snprintf(buf, sizeof buf, "%s received: stopped at the end of step %lld, t = %.6g s", stop_signal_name_.c_str(),
-                  step, t);
+    std::snprintf(buf, sizeof buf, "%s received: stopped at the end of step %lld, t = %.6g s",
+                  stop_signal_name_.c_str(), step, t);
     result.status = "interrupted";
     result.message = buf;
   }
@@ -271,7 +274,8 @@ Real restore_structure(const SnapshotData& state, TlsphSolver<D>& solver, const 
   };
   if (state.size() != static_cast<std::size_t>(n))
     throw mismatch(std::to_string(state.size()) + " particles against the case's " + std::to_string(n));
-  const SnapshotField &x = state.field("position"), &v = state.field("velocity"), &X = state.field("reference_position");
+  const SnapshotField &x = state.field("position"), &v = state.field("velocity"),
+                      &X = state.field("reference_position");
   const auto acc = state.fields.find("acceleration");
   const std::vector<long long> row = state.rows_by_id();
   std::vector<Vec<D>> xs(n), vs(n), as(acc != state.fields.end() ? n : 0);
@@ -372,7 +376,8 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& s
       boundary_work = restore_structure(state, solver, scene);
       frame.start_at(first_step * dt, opt.restart, true);
       if (opt.progress)
-        std::fprintf(stderr, "[%s] continuing from %s at t = %.6g s\n", spec.name.c_str(), opt.restart.c_str(), state.time);
+        std::fprintf(stderr, "[%s] continuing from %s at t = %.6g s\n", spec.name.c_str(), opt.restart.c_str(),
+                     state.time);
     });
   }
   if (first_step == 0) record(0);  // a restart carries the earlier run's rows

@@ -14,13 +14,13 @@ struct RunOptions {
   int threads = 0;       // 0: OpenMP default
   bool progress = true;  // progress line on stderr
   // A snapshot of an earlier run of the same case to continue from, or that run's folder (its newest
-  // snapshot that reads back whole: newest_snapshot() in io/output.hpp); the run starts at the snapshot's time and writes
-  // to out_dir, which must not be the earlier run's folder.
+  // snapshot that reads back whole: newest_snapshot() in io/output.hpp); the run starts at the snapshot's time and
+  // writes to out_dir, which must not be the earlier run's folder.
   std::string restart;
 };
 
 struct RunResult {
-  std::string status;    // completed | diverged | interrupted
+  std::string status;  // completed | diverged | interrupted
   std::string message;
   std::string out_dir;
 };

@@ -178,7 +178,9 @@ TEST(DeviceStages, TlsphRk4StepsOnTheDeviceMatchTheHost) {
         }
         h->step(k * dt, dt);
         d->step(k * dt, dt);
-        if (k == 10) EXPECT_EQ(d->replayed_graph(), h == &host) << "seed " << seed << ": a graph replayed while a load ramps";
+        if (k == 10) {
+          EXPECT_EQ(d->replayed_graph(), h == &host) << "seed " << seed << ": a graph replayed while a load ramps";
+        }
       }
       EXPECT_TRUE(d->replayed_graph()) << "seed " << seed;
       std::vector<Vec<2>> uh(h->size()), ud(h->size());
@@ -271,7 +273,9 @@ TEST(DeviceStages, TlsphObstaclesOnTheDeviceMatchTheHost) {
         EXPECT_NEAR(dc.energy, hc.energy, 1e-12 * hc.energy) << "seed " << seed << ", step " << k;
         EXPECT_NEAR(dc.deepest, hc.deepest, 1e-12 * hc.deepest) << "seed " << seed << ", step " << k;
         EXPECT_EQ(dc.pairs, hc.pairs) << "seed " << seed << ", step " << k;
-        if (k == 0) EXPECT_GT(hc.pairs, 0) << "seed " << seed << ": nothing overlaps";
+        if (k == 0) {
+          EXPECT_GT(hc.pairs, 0) << "seed " << seed << ": nothing overlaps";
+        }
       }
       if (k < 100) host.step(k * dt, dt), device.step(k * dt, dt);
     }

@@ -53,11 +53,10 @@ TEST(CoupledPlate, DeflectsDownwardsByTheStaticDeflectionWithoutPenetration) {
   const double lowest = *std::min_element(uy.begin(), uy.end());
   const double mean = std::accumulate(uy.begin(), uy.end(), 0.0) / uy.size();
   // A suddenly applied load overshoots to about twice the static deflection; the run holds about one
-  // oscillation, whose mean is about the static deflection.
-  EXPECT_LT(lowest, -1.2 * kStatic);
-  EXPECT_GT(lowest, -3.0 * kStatic);
-  EXPECT_LT(mean, -0.5 * kStatic);
-  EXPECT_GT(mean, -1.6 * kStatic);
+  // oscillation, whose mean is about the static deflection. Measured 2026-12-03: lowest 1.759, mean 1.004
+  // times the static deflection (windows of 3 %).
+  EXPECT_NEAR(lowest / -kStatic, 1.759, 0.05);
+  EXPECT_NEAR(mean / -kStatic, 1.004, 0.03);
   const std::string s = read_file(out / "summary.json");
   EXPECT_EQ(json_number(s, "fluid_inside_structure_max"), 0) << s;
   EXPECT_GT(json_number(s, "min_fluid_structure_distance"), 0.5 * 0.0125) << s;
@@ -65,8 +64,8 @@ TEST(CoupledPlate, DeflectsDownwardsByTheStaticDeflectionWithoutPenetration) {
 
 // A run continued from a snapshot (--restart) carries the earlier rows and follows the uninterrupted
 // run: the same time steps, and deflections within 1e-4 of the peak (measured 2026-12-03: 1.3e-5 of
-// it; the AMG hierarchy kept across steps starts afresh, and the PPE is solved to 1e-5). The case's two interface iterations take
-// their second iterate from the quasi-Newton columns of earlier steps, so the snapshot carries them:
+// it; the AMG hierarchy kept across steps starts afresh, and the PPE is solved to 1e-5). The case's two interface
+// iterations take their second iterate from the quasi-Newton columns of earlier steps, so the snapshot carries them:
 // without them the first step after the restart ended 2.6 times deeper. Restarting into the earlier
 // run's folder, past end_time, or from a snapshot of another resolution is refused with a message.
 TEST(CoupledPlate, RestartFollowsTheUninterruptedRun) {
@@ -170,10 +169,11 @@ TEST(CoupledPlate, InterpolatedInteractionFailsUnderTheFullColumnWhereHeldHolds)
   EXPECT_TRUE(diverged || lowest_deflection(interpolated) < -10 * full_static) << s;
 }
 
-// The elastic gate (T/dx = 4) while it starts to open, to `end` s: the tip moves downstream by what
-// the references give then (Khayyer 2018, Yang 2012, Ng 2020; 25 % allowed either side), no fluid
-// enters the gate or the walls, and the total energy stays within 10 % of the potential energy released.
-void expect_gate_tip_like_references(const std::string& name, double end, const std::string& sets) {
+// The elastic gate (as shipped) while it starts to open, to `end` s: the tip moves downstream by
+// `measured` (within 3 %), which lies within 25 % of what the references give then (Khayyer 2018, Yang
+// 2012, Ng 2020), no fluid enters the gate or the walls, and the total energy stays within 10 % of the
+// potential energy released.
+void expect_gate_tip_like_references(const std::string& name, double end, const std::string& sets, double measured) {
   const fs::path out = fresh_dir(name);
   const auto r = isph("run " + kCases + "elastic_gate.toml --quiet --out " + out.string() + " --set end_time=" +
                       std::to_string(end) + " --set output.interval=0.0005 --set output.snapshots=false" + sets);
@@ -189,6 +189,7 @@ void expect_gate_tip_like_references(const std::string& name, double end, const 
   }
   const auto probes = read_csv(out / "probes.csv");
   const double ux = probes.at("tip.ux").back();
+  EXPECT_NEAR(ux, measured, 0.03 * measured);
   EXPECT_GT(ux, 0.75 * lo);
   EXPECT_LT(ux, 1.25 * hi);
   const auto energy = read_csv(out / "energy.csv");
@@ -202,13 +203,15 @@ void expect_gate_tip_like_references(const std::string& name, double end, const 
 
 // To 35 ms: by then the gate's foot has lifted off the floor, where water once ran into the floor
 // (from 26 ms, when the floor beneath the foot kept the sideways normals of the set-up).
+// Measured 2026-12-03: 12.17 mm, the references 11.25-11.75 mm.
 TEST(CoupledGate, TipMovesDownstreamLikeTheReferencesWithEnergyBounded) {
-  expect_gate_tip_like_references("coupled_gate", 0.035, "");
+  expect_gate_tip_like_references("coupled_gate", 0.035, "", 0.01217);
 }
 
 // The same with the weakly compressible fluid (explicit coupling at its acoustic steps).
+// Measured 2026-12-03: 2.95 mm at 15 ms, the references 2.27-3.66 mm.
 TEST(CoupledGate, WeaklyCompressibleFluidMovesTheTipLikeTheReferences) {
-  expect_gate_tip_like_references("coupled_gate_wcsph", 0.015, " --set fluid.model=\"wcsph\"");
+  expect_gate_tip_like_references("coupled_gate_wcsph", 0.015, " --set fluid.model=\"wcsph\"", 0.00295);
 }
 
 // The gate's PPE (wall rows, structure rows, a broken free surface) with the project's own BiCGSTAB,

@@ -50,7 +50,8 @@ bool wait_for(const fs::path& file) {
 }
 
 // The oscillating plate (T/dx = 10, velocity-Verlet, 1,030 particles) to 0.1 s, a snapshot every 0.01 s.
-const std::string kPlate = "run " + kCases + "oscillating_plate.toml --quiet --set end_time=0.1"
+const std::string kPlate = "run " + kCases +
+                           "oscillating_plate.toml --quiet --set end_time=0.1"
                            " --set structure.integrator=\"verlet\" --set structure.courant=0.8"
                            " --set output.snapshot_interval=0.01";
 
@@ -103,7 +104,8 @@ TEST(RunControl, SigtermStopsAStructureRunThatThenContinuesBitForBit) {
 // searches' count, the density, the Verlet step's pressure acceleration and the force on the walls.
 TEST(RunControl, WeaklyCompressibleRunContinuesBitForBit) {
   if (!isph::SnapshotWriter::available()) GTEST_SKIP() << "this build writes no snapshots (no HDF5)";
-  const std::string dam = "run " + kCases + "dam_break.toml --quiet --set fluid.model=\"wcsph\" --set dx=0.0073"
+  const std::string dam = "run " + kCases +
+                          "dam_break.toml --quiet --set fluid.model=\"wcsph\" --set dx=0.0073"
                           " --set end_time=0.1 --set output.snapshot_interval=0.05"
                           " --set 'bodies.floor.shape={type=\"rectangle\",min=[-0.0219,-0.0219],max=[0.6059,0.0]}'"
                           " --set 'bodies.left_wall.shape={type=\"rectangle\",min=[-0.0219,0.0],max=[0.0,0.584]}'"
@@ -112,7 +114,7 @@ TEST(RunControl, WeaklyCompressibleRunContinuesBitForBit) {
   const auto r = regression::isph(dam + " --out " + full.string());
   ASSERT_EQ(r.status, 0) << r.output;
   const auto c = regression::isph(dam + " --out " + continued.string() + " --restart " +
-                      (full / "snapshots" / "snapshot_00001.h5").string());
+                                  (full / "snapshots" / "snapshot_00001.h5").string());
   ASSERT_EQ(c.status, 0) << c.output;
   expect_same_bits(isph::newest_snapshot(full.string()), isph::newest_snapshot(continued.string()));
   EXPECT_EQ(isph::read_snapshot(isph::newest_snapshot(continued.string())).time, 0.1);

@@ -97,7 +97,9 @@ TEST(OutputContract, FilesHeadersAndSummary) {
     EXPECT_NE(s.find(key), std::string::npos) << key;
   for (const auto& e : fs::recursive_directory_iterator(out))
     EXPECT_NE(e.path().extension(), ".tmp") << "left-over temporary file " << e.path();
-  if (fs::exists(out / "snapshots")) EXPECT_TRUE(fs::exists(out / "snapshots" / "snapshots.xmf"));
+  if (fs::exists(out / "snapshots")) {
+    EXPECT_TRUE(fs::exists(out / "snapshots" / "snapshots.xmf"));
+  }
   // the resolved configuration is a valid case that reproduces the run
   const auto again = isph("check " + (out / "case.resolved.toml").string());
   EXPECT_EQ(again.status, 0) << again.output;

@@ -1041,7 +1041,7 @@ TEST_F(CaseLoaderTest, FluidResolvedTomlReloadsToTheSameCase) {
   const auto first = load_case(path, {"fluid.ppe.method=gmres", "periodic.x=[0,1]", "fluid.escape=\"stop\""});
   const auto second = load_case(write("resolved.toml", first.resolved_toml));
   EXPECT_EQ(second.name, "dam_break");
-  EXPECT_EQ(second.fluid.escape, "stop");  // was read but not written (issue 35)
+  EXPECT_EQ(second.fluid.escape, "stop");                // was read but not written (issue 35)
   EXPECT_EQ(second.resolved_toml, first.resolved_toml);  // resolving is idempotent
   EXPECT_FALSE(second.stages.structure);
   EXPECT_TRUE(second.stages.fluid);

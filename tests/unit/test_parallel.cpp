@@ -90,7 +90,9 @@ TEST(Parallel, StableSortByKeyKeepsTheOrderOfEqualKeys) {
   EXPECT_TRUE(std::is_sorted(keys.begin(), keys.end()));
   for (Index q = 0; q < n; ++q) {
     EXPECT_EQ(original[values[q]], keys[q]) << q;
-    if (q > 0 && keys[q] == keys[q - 1]) EXPECT_LT(values[q - 1], values[q]) << q;
+    if (q > 0 && keys[q] == keys[q - 1]) {
+      EXPECT_LT(values[q - 1], values[q]) << q;
+    }
   }
   stable_sort_by_key(Exec{}, keys.data(), values.data(), 0, 7);  // an empty range is left alone
 }
