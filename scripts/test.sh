@@ -18,3 +18,5 @@ if command -v nvcc > /dev/null || [ -x /usr/local/cuda/bin/nvcc ]; then
   build-no-cuda/isph_unit_tests --gtest_brief=1
   build-no-cuda/isph_device_tests --gtest_brief=1
 fi
+# The unit tests and a handful of short runs under AddressSanitizer + UndefinedBehaviorSanitizer.
+bash scripts/sanitize.sh

@@ -7,11 +7,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <optional>
 #include <set>
 #include <sstream>
+#include <string_view>
 #include <toml.hpp>
 #include <utility>
 
@@ -934,6 +936,42 @@ void check_lists(CaseSpec& c, Context& ctx) {
 // Overrides
 // ---------------------------------------------------------------------------------------------
 
+// The offset of the first byte of `text` that does not belong to a well-formed UTF-8 sequence (Unicode
+// 15, Table 3-7: no overlong forms, no surrogates, nothing above U+10FFFF), or none. TOML is UTF-8, and
+// toml11 3.7's parser reads out of bounds on some malformed sequences (found by fuzzing, docs/RELIABILITY.md),
+// so text is checked before it is parsed.
+std::optional<std::size_t> first_invalid_utf8(std::string_view text) {
+  const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(text[i]); };
+  for (std::size_t i = 0; i < text.size();) {
+    const unsigned char b = byte(i);
+    // The sequence's length and the allowed range of its second byte, from its lead byte.
+    std::size_t length = 1;
+    unsigned char low = 0x80, high = 0xBF;
+    if (b >= 0x80) {
+      if (b >= 0xC2 && b <= 0xDF) {
+        length = 2;
+      } else if (b >= 0xE0 && b <= 0xEF) {
+        length = 3;
+        low = b == 0xE0 ? 0xA0 : 0x80;
+        high = b == 0xED ? 0x9F : 0xBF;
+      } else if (b >= 0xF0 && b <= 0xF4) {
+        length = 4;
+        low = b == 0xF0 ? 0x90 : 0x80;
+        high = b == 0xF4 ? 0x8F : 0xBF;
+      } else {
+        return i;
+      }
+    }
+    if (i + length > text.size()) return i;
+    for (std::size_t k = 1; k < length; ++k) {
+      const unsigned char c = byte(i + k);
+      if (k == 1 ? (c < low || c > high) : (c < 0x80 || c > 0xBF)) return i;
+    }
+    i += length;
+  }
+  return std::nullopt;
+}
+
 // The value of an override: a TOML value if the text is one, else the text itself as a string (so
 // that `structure.integrator=verlet` works unquoted).
 toml::value override_value(const std::string& text) {
@@ -964,6 +1002,7 @@ toml::value* array_element(toml::array& items, const std::string& segment) {
 // Sets "dotted.key=value" in `doc`. Missing table keys are created, so that a key outside the
 // schema is reported as unknown by the reading that follows. Returns the problem, if any.
 std::optional<std::string> apply_override(toml::value& doc, const std::string& text) {
+  if (const auto bad = first_invalid_utf8(text)) return "not UTF-8 text (byte " + std::to_string(*bad + 1) + ")";
   const auto equals = text.find('=');
   if (equals == std::string::npos) return "expected key=value";
   const auto segments = split(trim(text.substr(0, equals)), '.');
@@ -1208,8 +1247,15 @@ toml::value parse_file(const std::string& path) {
   std::error_code error;
   std::ifstream in(path, std::ios::binary);
   if (!in || std::filesystem::is_directory(path, error)) throw CaseError({path + ": cannot open file"});
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (const auto bad = first_invalid_utf8(text)) {
+    const auto line = std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(*bad), '\n') + 1;
+    throw CaseError({path + ": not UTF-8 text (line " + std::to_string(line) + ", byte " + std::to_string(*bad + 1) +
+                     "): a case file is TOML, which is UTF-8"});
+  }
   try {
-    return toml::parse(in, path);
+    std::istringstream parsed(text);
+    return toml::parse(parsed, path);
   } catch (const toml::exception& e) {
     throw CaseError({path + ": parse error: " + e.what()});
   }

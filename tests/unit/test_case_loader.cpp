@@ -1036,6 +1036,22 @@ TEST_F(CaseLoaderTest, FluidOverrides) {
   EXPECT_EQ(c.probes[1].point, (std::array<double, 3>{0, 0.02, 0}));
 }
 
+// TOML is UTF-8: malformed bytes in a case file or an override are refused before toml11 parses them
+// (its parser read out of bounds on one such override; found by fuzzing, docs/RELIABILITY.md).
+TEST_F(CaseLoaderTest, TextThatIsNotUtf8IsRefusedWithItsPlace) {
+  const auto valid = write("valid.toml", "# \xc2\xa7 3.2, \xe2\x80\x93, \xf0\x9f\x8c\x8a\n" + kBeam);
+  EXPECT_TRUE(problems(valid).empty());
+  for (const std::string bad : {"\xff", "\xc0\xaf", "\xed\xa0\x80", "\xf4\x90\x80\x80", "\xe2\x80"}) {
+    const auto path = write("bad.toml", "# ok\n# " + bad + "\n" + kBeam);
+    const auto found = problems(path);
+    ASSERT_EQ(found.size(), 1u);
+    EXPECT_EQ(found[0], path + ": not UTF-8 text (line 2, byte 8): a case file is TOML, which is UTF-8");
+    const auto set = problems(valid, {"'a" + bad + "'.b=1"});
+    ASSERT_EQ(set.size(), 1u);
+    EXPECT_EQ(set[0], "--set 'a" + bad + "'.b=1: not UTF-8 text (byte 3)");
+  }
+}
+
 TEST_F(CaseLoaderTest, FluidResolvedTomlReloadsToTheSameCase) {
   const auto path = write("dam_break.toml", kDamBreak);
   const auto first = load_case(path, {"fluid.ppe.method=gmres", "periodic.x=[0,1]", "fluid.escape=\"stop\""});

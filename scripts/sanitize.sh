@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# The unit tests and a handful of short regression runs (structure, ISPH, WCSPH, coupled, moving walls,
+# restarts and signals, bad input) built with AddressSanitizer and UndefinedBehaviorSanitizer, without
+# CUDA, in build-asan/. Any report fails. scripts/test.sh runs it; docs/RELIABILITY.md lists what it found.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DISPH_CUDA=OFF -DISPH_SANITIZE=ON -DISPH_WERROR=ON
+cmake --build build-asan -j "$(nproc)" --target isph isph_unit_tests isph_regression_tests
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+# The replay of the fuzz corpus (tests/fuzz/) loads cases only, without MPI: plain leak checks.
+ASAN_OPTIONS=detect_leaks=1 build-asan/isph_unit_tests --gtest_brief=1 --gtest_filter='FuzzCorpus.*'
+# Elsewhere hypre initialises Open MPI, which leaves allocations at exit: full stacks through the
+# libraries (fast unwinding stops at those built without frame pointers, and costs 10 times less) let
+# tests/sanitizers/lsan.supp recognise and suppress them.
+export ASAN_OPTIONS=detect_leaks=1:fast_unwind_on_malloc=0
+export LSAN_OPTIONS=suppressions=$PWD/tests/sanitizers/lsan.supp:print_suppressions=0:fast_unwind_on_malloc=0
+export OMPI_MCA_mca_base_component_disable_dlclose=1
+build-asan/isph_unit_tests --gtest_brief=1 --gtest_filter='-FuzzCorpus.*'
+build-asan/isph_regression_tests --gtest_brief=1 --gtest_filter='RunControl.*:CoupledPlate.DeflectsDownwards*:CoupledGate.TipMoves*:CoupledGate.WeaklyCompressibleFluid*:DamBreak.CoarseSurgeFront:OscillatingPlate.*:MovingWalls.WallWork*:HydrostaticTank.CoarseStillWater:Bad*:OutputContract.*:Divergence.*:Cantilever.CoarseLinear*:MultiResolution.RefinementOne*'
+echo "sanitize: no AddressSanitizer, LeakSanitizer or UndefinedBehaviorSanitizer report"
