@@ -4,7 +4,7 @@ fluid particles (2D), a few steps from rest each, on the CPU or the GPU.
 
     /usr/bin/python3 bench/case_sweep.py [--cases dam_break,elastic_gate] [--sizes 1e4,1e5,1e6,4e6]
         [--device cpu|cuda] [--threads 1,2] [--backend eigen] [--preconditioner P] [--out DIR]
-        [--kernels]
+        [--kernels] [--timeout SECONDS]
 
 For each case, size and thread count it runs `build/isph run` with dx = sqrt(fluid area / size), walls
 three particles thick at that dx, no snapshots, and an end time of (steps - 1/2) fluid steps estimated
@@ -76,7 +76,10 @@ def run(case, size, threads, args):
     case_file, sets = run_args(case, size, args)
     cmd = [ISPH, "run", os.path.join(ROOT, case_file), "--out", out, "--threads", str(threads), "--device",
            args.device, "--quiet"] + [a for s in sets for a in ("--set", s)]
-    result = subprocess.run(cmd, capture_output=True, text=True)
+    try:
+        result = subprocess.run(cmd, capture_output=True, text=True, timeout=args.timeout or None)
+    except subprocess.TimeoutExpired:
+        return None, f"stopped after {args.timeout:g} s (--timeout)"
     summary = os.path.join(out, "summary.json")
     if not os.path.exists(summary):
         return None, (result.stderr.strip().splitlines() or ["no summary.json"])[-1]
@@ -108,6 +111,7 @@ def main():
     ap.add_argument("--preconditioner", default="")
     ap.add_argument("--out", default=os.path.join(ROOT, "runs", "bench", "case_sweep"))
     ap.add_argument("--kernels", action="store_true")
+    ap.add_argument("--timeout", type=float, default=0, help="seconds after which a run is stopped (0: none)")
     args = ap.parse_args()
     cases = args.cases.split(",")
     for c in cases:

@@ -8,8 +8,9 @@
 # build-device, taking Eigen, toml11, CLI11 and GoogleTest from the Debian packages in .deps/debs
 # (apt-get download libeigen3-dev libtoml11-dev libcli11-dev libgtest-dev), since the GPU machine has
 # no package registry.
-# Steps (default: all): tests  sanitize  pairs  spmv  solvers  substeps  plate  fluid  large
-#   tests   : the device tests with ISPH_REQUIRE_GPU_TESTS=1 (a skip is a failure)
+# Steps (default: all): tests  sanitize  pairs  spmv  solvers  substeps  plate  shipped  fluid  large
+#   tests   : the device tests with ISPH_REQUIRE_GPU_TESTS=1 (a skip is a failure), stopped after
+#             TESTS_TIMEOUT seconds (default 1800)
 #   sanitize: the device tests under compute-sanitizer memcheck (out-of-bounds and misaligned accesses)
 #   pairs   : isph_pair_bench, 1e4 to 4e6 particles, host (all cores) and GPU
 #   spmv    : isph_ppe_bench --spmv-only, cuSPARSE, the vector CSR kernel and the host SpMV against the
@@ -20,7 +21,13 @@
 #             every substep), and queued (advance: one wait for all the substeps)
 #   plate   : the oscillating plate (cases/oscillating_plate.toml) at T/dx = 10 (0.7 s) and 20 (0.2 s) on
 #             the cpu (all cores) and with --device cuda; the tip histories are compared (to 1e-8)
-#   fluid   : bench/case_sweep.py, the dam break and the gate from 1e4 to 1e6 fluid particles with
+#   shipped : the FSI cases as shipped (multi-resolution elastic gate, hydrostatic plate, Walhorn
+#             obstacle), each to SHIPPED_END_TIME (default 0.1 s; a run stopped after SHIPPED_TIMEOUT s,
+#             default 240), with --device cuda (cuda BiCGSTAB +
+#             AMG) and on the cpu with all cores (native BiCGSTAB + the same AMG; hypre is not in this
+#             build); summaries, probes and energies in OUT_DIR/shipped.tar.gz, a table in shipped.md
+#   fluid   : bench/case_sweep.py, the dam break and the gate (SWEEP_CASES) from 1e4 to 1e6 (SWEEP_SIZES)
+#             fluid particles, each run stopped after SWEEP_TIMEOUT seconds where that is set, with
 #             --device cuda and the PPE on the device (cuda BiCGSTAB + the AMG of
 #             poisson/aggregation_amg.hpp; Jacobi and the polynomial preconditioner do not converge at
 #             1e5 and above), then on the cpu with all cores and the same solver on the host (native
@@ -39,7 +46,10 @@ set -u -o pipefail
 build=${1:?build directory}
 out=${2:?output directory}
 shift 2
-steps=${*:-tests sanitize pairs spmv solvers substeps plate fluid large}
+steps=${*:-tests sanitize pairs spmv solvers substeps plate shipped fluid large}
+sweep_sizes=${SWEEP_SIZES:-1e4,1e5,1e6}
+sweep_cases=${SWEEP_CASES:-dam_break,elastic_gate}
+sweep_timeout=${SWEEP_TIMEOUT:-0}  # seconds per run of the sweeps (0: none)
 mkdir -p "$out"
 export LD_LIBRARY_PATH=/usr/local/cuda/lib64:/usr/local/cuda/lib:${LD_LIBRARY_PATH:-}
 # The device tests run cases from this checkout with this build's isph, wherever both were built.
@@ -69,7 +79,7 @@ for step in $steps; do
   fi
   case $step in
     tests)
-      ISPH_REQUIRE_GPU_TESTS=1 "$build/isph_device_tests" 2>&1 | tee "$out/device_tests.log" | grep -E "^\[  (PASSED|FAILED|SKIPPED) |OK \]|FAILED|Failure" || status=1 ;;
+      ISPH_REQUIRE_GPU_TESTS=1 timeout "${TESTS_TIMEOUT:-1800}" "$build/isph_device_tests" 2>&1 | tee "$out/device_tests.log" | grep -E "^\[  (PASSED|FAILED|SKIPPED) |OK \]|FAILED|Failure" || status=1 ;;
     sanitize)
       ISPH_REQUIRE_GPU_TESTS=1 compute-sanitizer --tool memcheck --leak-check no "$build/isph_device_tests" \
         >"$out/sanitizer.log" 2>&1 || status=1
@@ -94,10 +104,24 @@ for step in $steps; do
         python3 bench/compare_probes.py "/tmp/plate_${res}_cpu/probes.csv" "/tmp/plate_${res}_cuda/probes.csv" \
           | tee -a "$out/plate.md" || status=1
       done ;;
+    shipped)
+      end=${SHIPPED_END_TIME:-0.1}
+      for name in elastic_gate hydrostatic_plate baffle_walhorn; do
+        for device in cuda cpu; do
+          backend=$([ $device = cuda ] && echo cuda || echo native)
+          timeout "${SHIPPED_TIMEOUT:-240}" "$build/isph" run cases/$name.toml --device $device --threads "$(nproc)" --quiet \
+            --out "/tmp/shipped/${name}_$device" --set end_time=$end --set output.snapshots=false \
+            --set fluid.ppe.backend=$backend --set fluid.ppe.preconditioner=amg --set fluid.ppe.fallback=none \
+            >"/tmp/shipped_${name}_$device.log" 2>&1 || { status=1; tail -3 "/tmp/shipped_${name}_$device.log"; }
+          python3 -c "import json,sys; s=json.load(open(sys.argv[1])); p=s['phases']; print('| $name | $device |', s['status'], '|', s['steps'], '|', round(s['wall_time_s'], 2), '|', s['ppe'], '|', {k: round(v, 2) for k, v in p.items()}, '|')" \
+            "/tmp/shipped/${name}_$device/summary.json" 2>/dev/null | tee -a "$out/shipped.md"
+        done
+      done
+      tar czf "$out/shipped.tar.gz" -C /tmp shipped ;;
     fluid)
-      ISPH="$build/isph" python3 bench/case_sweep.py --sizes 1e4,1e5,1e6 --device cuda --threads "$(nproc)" \
+      ISPH="$build/isph" python3 bench/case_sweep.py --sizes "$sweep_sizes" --cases "$sweep_cases" --timeout "$sweep_timeout" --device cuda --threads "$(nproc)" \
         --backend cuda --preconditioner amg --out "$out/sweep_cuda" 2>&1 | tee "$out/fluid_sweep_cuda.md" || status=1
-      ISPH="$build/isph" python3 bench/case_sweep.py --sizes 1e4,1e5,1e6 --device cpu --threads "$(nproc)" \
+      ISPH="$build/isph" python3 bench/case_sweep.py --sizes "$sweep_sizes" --cases "$sweep_cases" --timeout "$sweep_timeout" --device cpu --threads "$(nproc)" \
         --backend native --preconditioner amg --out "$out/sweep_cpu" 2>&1 | tee "$out/fluid_sweep_cpu.md" || status=1 ;;
     large)
       ISPH="$build/isph" python3 bench/case_sweep.py --sizes 4e6 --device cuda --threads "$(nproc)" \

@@ -138,6 +138,7 @@ void TlsphSolver<D>::make_state_device_visible() {
   make_device_visible(fixed_);
   make_device_visible(block_sums_), make_device_visible(power_record_), make_device_visible(clamp_record_);
   make_device_visible(nbr_offset_), make_device_visible(nbr_);
+  make_device_visible(obstacle_point_), make_device_visible(obstacle_radius_);
   make_device_visible(contact_offset_), make_device_visible(contact_point_), make_device_visible(contact_radius_);
   for (auto* v : {&load_acc_, &interaction_, &X_, &x_, &v_, &acc_, &cgrad_, &rcgrad_, &cgrad_sum_, &x0_, &v0_,
                   &x_sum_, &v_sum_, &saved_x_, &saved_v_})

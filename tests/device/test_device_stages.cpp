@@ -90,6 +90,7 @@ TEST(DeviceStages, TlsphStressAndAccelerationCudaMatchesCpu) {
     DeviceArray<int> mat(vec(h.material, n));
     DeviceArray<ElasticMaterial> mats(vec(h.materials, 1));
     DeviceArray<unsigned char> fixed(vec(h.fixed, n));
+    DeviceArray<Index> contact_offset(vec(h.obstacles.offset, n + 1));  // no obstacles: every count zero
     std::vector<Mat<2>> poisoned_m(n);
     std::vector<Real> poisoned_r(n);
     std::vector<Vec<2>> poisoned_v(n);
@@ -107,6 +108,7 @@ TEST(DeviceStages, TlsphStressAndAccelerationCudaMatchesCpu) {
     d.cell_moment = cell_moment.data();
     d.nbr_offset = off.data(), d.nbr = nbr.data(), d.material = mat.data(), d.materials = mats.data();
     d.fixed = fixed.data(), d.load_acc = load.data(), d.loads = 0;
+    d.obstacles = {contact_offset.data(), nullptr, nullptr};
     d.F = F.data(), d.stress = stress.data(), d.psi = psi.data(), d.acc = acc.data();
     d.strain = strain.data(), d.gradient_stress = gradient_stress.data();
 
