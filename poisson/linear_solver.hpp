@@ -80,6 +80,9 @@ class LinearSolver {
                     MatrixReuse reuse = MatrixReuse::none);
   // Whether the last solve kept an earlier preconditioner for a new matrix (MatrixReuse::preconditioner).
   virtual bool kept_preconditioner() const { return false; }
+  // The relative residual the following solves must reach (SolverSettings::tolerance at construction).
+  virtual void set_tolerance(double tolerance) = 0;
+  virtual double tolerance() const = 0;
   virtual std::string name() const = 0;  // e.g. "eigen-bicgstab-ilu", "hypre-gmres-boomeramg"
 };
 
@@ -120,6 +123,8 @@ class KrylovSolverFrame : public LinearSolver {
                     MatrixReuse reuse = MatrixReuse::none) final;
   std::string name() const final;
   bool kept_preconditioner() const final { return kept_preconditioner_; }
+  void set_tolerance(double tolerance) final { settings_.tolerance = tolerance; }
+  double tolerance() const final { return settings_.tolerance; }
 
  protected:
   struct Pass {

@@ -180,6 +180,7 @@ struct CouplingSpec {
   bool fsi_shifting = true;                  // the FSI shifting layer beside structures (Eqs. 27-30)
   double tolerance = 1e-3;                   // interface iterations: relative change of the structure's acceleration
   int max_iterations = 30;                   // interface iterations per fluid step (1: explicit, staggered)
+  double first_ppe_tolerance = 0.0;          // PPE tolerance of a step's first interface iteration (0: the PPE's)
   int reuse_steps = 8;                       // quasi-Newton: steps whose iterations are reused (0: none)
   std::string interaction_force = "pairwise";  // pairwise | gradient (Eq. 48 literally; structure/interaction.hpp)
   std::string substep_interaction = "held";  // held (alpha of the step's end) | interpolated (from the last step's)

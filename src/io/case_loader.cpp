@@ -391,6 +391,10 @@ void read_fields(Table& t, CouplingSpec& c) {
   if (t.read("tolerance", c.tolerance) && !(c.tolerance > 0.0 && c.tolerance < 1.0))
     t.problem("tolerance", "must be > 0 and < 1 (got " + show(c.tolerance) + ")");
   read_positive_int(t, "max_iterations", c.max_iterations);
+  if (t.read("first_ppe_tolerance", c.first_ppe_tolerance) &&
+      !(c.first_ppe_tolerance >= 0.0 && c.first_ppe_tolerance < 1.0))
+    t.problem("first_ppe_tolerance",
+              "must be 0 (the PPE's tolerance) or > 0 and < 1 (got " + show(c.first_ppe_tolerance) + ")");
   std::int64_t reuse = c.reuse_steps;
   if (t.read("reuse_steps", reuse)) {
     if (reuse < 0 || reuse > 100)
@@ -1225,6 +1229,7 @@ std::string resolved_toml(const CaseSpec& c) {
       << "substep_interaction = " << quote(c.coupling.substep_interaction) << "\n"
       << "tolerance = " << toml_float(c.coupling.tolerance) << "\n"
       << "max_iterations = " << c.coupling.max_iterations << "\n"
+      << "first_ppe_tolerance = " << toml_float(c.coupling.first_ppe_tolerance) << "\n"
       << "reuse_steps = " << c.coupling.reuse_steps << "\n";
   write_periodic(out, c.periodic, d);
   out << "\n[output]\n"

@@ -198,8 +198,13 @@ MatrixReuse IsphSolver<D>::matrix_reuse() const {
 }
 
 template <int D>
-void IsphSolver<D>::solve_pressure(FluidStepReport& report, PhaseTimer& timer) {
+void IsphSolver<D>::solve_pressure(FluidStepReport& report, PhaseTimer& timer, double tolerance) {
   timer.time("ppe_solve", [&] {
+    const double case_tolerance = solver_->tolerance(), fallback_tolerance = fallback_ ? fallback_->tolerance() : 0;
+    if (tolerance > 0) {
+      solver_->set_tolerance(tolerance);
+      if (fallback_) fallback_->set_tolerance(tolerance);
+    }
     warm_start();
     const MatrixReuse reuse = matrix_reuse();
     report.ppe = solver_->solve(matrix_, rhs_, p_trial_, reuse);
@@ -233,6 +238,10 @@ void IsphSolver<D>::solve_pressure(FluidStepReport& report, PhaseTimer& timer) {
     report.ppe_max_iterations = std::max(report.ppe_max_iterations, iterations);
     report.ppe_failed = !report.ppe.converged;
     if (!report.ppe_failed) particles_.pressure.swap(p_trial_);
+    if (tolerance > 0) {
+      solver_->set_tolerance(case_tolerance);
+      if (fallback_) fallback_->set_tolerance(fallback_tolerance);
+    }
   });
 }
 

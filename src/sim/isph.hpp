@@ -34,10 +34,12 @@ class IsphSolver final : public FluidModel<D> {
   // The same step in three parts, for the coupled step, which solves the PPE again after changing the
   // structure's acceleration (set_structure_acceleration):
   //   begin_step: drift to r*, neighbours, predictor, free surface, PPE assembly;
-  //   solve_pressure: the PPE (the pressure is kept only when a solver converged);
+  //   solve_pressure: the PPE (the pressure is kept only when a solver converged), to the case's
+  //                   tolerance or, where `tolerance` > 0, to that one (an interface iteration's interim
+  //                   pressure);
   //   end_step: projection, position update, shifting.
   void begin_step(Real dt, PhaseTimer& timer);
-  void solve_pressure(FluidStepReport& report, PhaseTimer& timer);
+  void solve_pressure(FluidStepReport& report, PhaseTimer& timer, double tolerance = 0);
   void end_step(Real dt, PhaseTimer& timer);
 
   const StateVector<SurfaceClass>& surface_class() const { return cls_; }

@@ -953,6 +953,22 @@ fallback = "amgx"
       reports(p, path + ": fluid.surface_full: must be > surface_threshold (got 1.6 (default) <= 1.7)"));
 }
 
+// The PPE tolerance of each coupled step's first interface iteration: 0 (the PPE's own) by default, else
+// in (0, 1); the resolved case keeps it.
+TEST_F(CaseLoaderTest, FirstIterationPpeTolerance) {
+  const auto path = write("dam_break.toml", kDamBreak);
+  EXPECT_EQ(load_case(path).coupling.first_ppe_tolerance, 0.0);
+  const auto c = load_case(path, {"coupling.first_ppe_tolerance=1e-3"});
+  EXPECT_EQ(c.coupling.first_ppe_tolerance, 1e-3);
+  EXPECT_EQ(load_case(write("resolved.toml", c.resolved_toml)).coupling.first_ppe_tolerance, 1e-3);
+  for (const std::string bad : {"1", "-0.5"}) {
+    const auto p = problems(path, {"coupling.first_ppe_tolerance=" + bad});
+    EXPECT_TRUE(reports(
+        p, path + ": coupling.first_ppe_tolerance: must be 0 (the PPE's tolerance) or > 0 and < 1 (got " + bad + ")"))
+        << (p.empty() ? "" : p[0]);
+  }
+}
+
 TEST_F(CaseLoaderTest, PpeCombinations) {
   const auto path = write("ppe.toml", kDamBreak + R"(
 [fluid.ppe]
