@@ -145,6 +145,8 @@ class TlsphSolver {
   const StateVector<Mat<D>>& deformation_gradient() const { return F_; }
   const StateVector<unsigned char>& fixed() const { return fixed_; }
   Real density(Index a) const { return mass_[a] / volume_[a]; }
+  Real mass(Index a) const { return mass_[a]; }
+  const Vec<D>& gravity() const { return gravity_; }
   const StateVector<Index>& neighbour_offset() const { return nbr_offset_; }
   const StateVector<Index>& neighbours() const { return nbr_; }
   // Cauchy stress sigma = F S F^T / det F of particle a (from the last update_stress()).

@@ -15,6 +15,7 @@
 
 #include "io/output.hpp"
 #include "sim/coupling.hpp"
+#include "sim/energy_books.hpp"
 #include "sim/phase_timer.hpp"
 #include "sim/scene.hpp"
 
@@ -132,6 +133,43 @@ class RunFrame {
     energy.flush();
   }
 
+  // Writes a row of energy.csv and posts it to the energy books, which open on the first row (a run's
+  // start, with `releasable_potential`, the potential energy motion can release). A run whose books no
+  // longer balance has diverged.
+  void add_energy_row(double t, double fluid_kinetic, double fluid_potential, double structure_kinetic,
+                      double structure_potential, double structure_strain, double boundary_work,
+                      double releasable_potential) {
+    const double total =
+        fluid_kinetic + fluid_potential + structure_kinetic + structure_potential + structure_strain - boundary_work;
+    energy.add_row({t, fluid_kinetic, fluid_potential, structure_kinetic, structure_potential, structure_strain,
+                    boundary_work, total});
+    if (!books_open_) {
+      books_ = EnergyBooks(total, releasable_potential + fluid_kinetic + structure_kinetic + structure_strain);
+      books_open_ = true;
+    }
+    if (result.status == "diverged") return;
+    if (auto broken = books_.post(t, total, boundary_work)) diverge(*broken + "; " + books_advice_);
+  }
+  // What the books' message suggests to a run they stop (the model's step settings).
+  void set_books_advice(std::string advice) { books_advice_ = std::move(advice); }
+  // The books' state, kept in each snapshot so that a restarted run continues them.
+  SnapshotAttributes books_attributes() const {
+    if (!books_open_) return {};
+    return {{"energy_books_initial_total", books_.initial_total()},
+            {"energy_books_initial_energy", books_.initial_energy()},
+            {"energy_books_largest_work", books_.largest_work()}};
+  }
+  // A restart continues the books from the snapshot; one written before they existed opens them anew
+  // at the first row after the restart.
+  void continue_books(const SnapshotData& state) {
+    const auto& a = state.attributes;
+    const auto total = a.find("energy_books_initial_total"), energy0 = a.find("energy_books_initial_energy"),
+               work = a.find("energy_books_largest_work");
+    if (total == a.end() || energy0 == a.end() || work == a.end()) return;
+    books_ = EnergyBooks::continued(total->second, energy0->second, work->second);
+    books_open_ = true;
+  }
+
   void progress(double t, long long steps, double stepping_seconds) {
     if (!opt_.progress || seconds_since(last_progress_) < 2.0) return;
     last_progress_ = Clock::now();
@@ -185,6 +223,13 @@ class RunFrame {
         .set("performance", performance)
         .set("status", result.status)
         .set("message", result.message);
+    if (books_open_) {
+      JsonObject books;
+      books.set("created_fraction_bound", EnergyBooks::kCreationBound)
+          .set("peak_created_fraction", books_.peak_created_fraction())
+          .set("scale", books_.scale());
+      summary.set("energy_books", books);
+    }
     if (restarted_) summary.set("restart", restart_);
     if (!stop_signal_name_.empty()) summary.set("stop_signal", stop_signal_name_);
     if (device_emulated()) {  // --device debug: the host's touches of device memory, per phase
@@ -216,12 +261,29 @@ class RunFrame {
   bool restarted_ = false;
   JsonObject restart_;  // the snapshot a restarted run continues from
   std::string stop_signal_name_;  // of an interrupted run
+  EnergyBooks books_;
+  bool books_open_ = false;
+  std::string books_advice_ = "the run is unstable";
 };
 
 JsonObject particle_counts(long long fluid, long long wall, long long structure) {
   JsonObject o;
   o.set("fluid", fluid).set("wall", wall).set("structure", structure);
   return o;
+}
+
+// The potential energy motion can release, for the energy books: the structure's above its lowest
+// particle, and (with the fluid) the fluid's above its own lowest particle.
+template <int D>
+Real structure_releasable_potential(const TlsphSolver<D>& s) {
+  return releasable_potential_energy<D>(
+      std::span<const Vec<D>>(s.position()), [&](std::size_t a) { return s.mass(a); }, s.gravity());
+}
+template <int D>
+Real fluid_releasable_potential(const ParticleSet<D>& p) {
+  return releasable_potential_energy<D>(
+      std::span<const Vec<D>>(p.position),
+      [&](std::size_t a) { return p.kind[a] == FluidKind::fluid ? p.density() * p.volume[a] : Real(0); }, p.gravity());
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -232,7 +294,7 @@ JsonObject particle_counts(long long fluid, long long wall, long long structure)
 // positions and velocities: the last acceleration (velocity-Verlet's) and the loads' work.
 template <int D>
 void write_structure_snapshot(SnapshotWriter& writer, double t, TlsphSolver<D>& solver, const Scene<D>& scene,
-                              Real boundary_work) {
+                              Real boundary_work, SnapshotAttributes attributes) {
   const Index n = solver.size();
   std::vector<Index> slot(n);
   for (Index a = 0; a < n; ++a) slot[scene.structure_id[a]] = a;
@@ -260,8 +322,8 @@ void write_structure_snapshot(SnapshotWriter& writer, double t, TlsphSolver<D>& 
     body.data[k] = scene.structure_body[a];
     fixed.data[k] = solver.fixed()[a];
   }
-  writer.write(t, pos, {disp, vel, acc, ref, sxx, syy, sxy, id, body, fixed},
-               {{"boundary_work", boundary_work}, {"clamp_work", solver.clamp_work()}});
+  attributes.insert(attributes.end(), {{"boundary_work", boundary_work}, {"clamp_work", solver.clamp_work()}});
+  writer.write(t, pos, {disp, vel, acc, ref, sxx, syy, sxy, id, body, fixed}, attributes);
 }
 
 // Continues a structure-only run from its snapshot: positions, velocities and the last acceleration by
@@ -331,6 +393,7 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& s
   std::vector<std::string> columns;
   add_displacement_columns(scene, columns);
   RunFrame frame(spec, opt, columns, D);
+  frame.set_books_advice("try a smaller structure.courant");
   std::unique_ptr<TlsphSolver<D>> solver_ptr;
   timer.time("setup", [&] { solver_ptr = std::make_unique<TlsphSolver<D>>(scene.structure, Exec{opt.device}); });
   TlsphSolver<D>& solver = *solver_ptr;
@@ -342,20 +405,20 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& s
   frame.set_output_interval(dt, 100);
 
   Real boundary_work = 0;  // work of the applied loads, integrated by the trapezoidal rule (moving clamps': the solver's)
+  const Real releasable = structure_releasable_potential(solver);
   auto record = [&](Real t) {
     timer.time("output", [&] {
       solver.update_stress();
       std::vector<double> row{t};
       add_displacement_values(scene, solver, row);
       frame.probes.add_row(row);
-      const Real ek = solver.kinetic_energy(), ep = solver.potential_energy(), es = solver.strain_energy();
-      const Real work = boundary_work + solver.clamp_work();
-      frame.energy.add_row({t, 0, 0, ek, ep, es, work, ek + ep + es - work});
+      frame.add_energy_row(t, 0, 0, solver.kinetic_energy(), solver.potential_energy(), solver.strain_energy(),
+                           boundary_work + solver.clamp_work(), releasable);
     });
   };
   auto snapshot = [&](Real t) {
     timer.time("output", [&] {
-      write_structure_snapshot(frame.snapshots, t, solver, scene, boundary_work);
+      write_structure_snapshot(frame.snapshots, t, solver, scene, boundary_work, frame.books_attributes());
       frame.flush();
     });
   };
@@ -374,6 +437,7 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& s
                                  " s, between two steps of this case (dt = " + std::to_string(dt) +
                                  " s): its end_time or structure.courant differ from the earlier run's");
       boundary_work = restore_structure(state, solver, scene);
+      frame.continue_books(state);
       frame.start_at(first_step * dt, opt.restart, true);
       if (opt.progress)
         std::fprintf(stderr, "[%s] continuing from %s at t = %.6g s\n", spec.name.c_str(), opt.restart.c_str(),
@@ -404,6 +468,11 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& s
       break;
     }
     if (frame.due_record(t1, step + 1 == steps)) record(t1);
+    if (frame.result.status == "diverged") {  // the energy books broke
+      ++step;
+      if (frame.last_snapshot_due()) snapshot(t1);
+      break;
+    }
     if (frame.due_snapshot(t1)) snapshot(t1);
     frame.progress(t1, step + 1 - first_step, timer.get("structure"));
   }
@@ -433,7 +502,7 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& s
 // the others).
 template <int D>
 void write_fluid_snapshot(SnapshotWriter& writer, double t, const FluidModel<D>& model,
-                          const StructureCoupling<D>* coupling) {
+                          const StructureCoupling<D>* coupling, SnapshotAttributes restart_state) {
   const ParticleSet<D>& particles = model.particles();
   const TlsphSolver<D>* structure = coupling ? &coupling->solver() : nullptr;
   const Index n = particles.size();
@@ -463,8 +532,9 @@ void write_fluid_snapshot(SnapshotWriter& writer, double t, const FluidModel<D>&
   }
   std::vector<SnapshotField> fields{vel, p, kind, id, memory_row};
   model.add_snapshot_fields(slot, fields);
-  SnapshotAttributes restart_state{{"wall_work", particles.wall_work},
-                                   {"neighbour_searches", static_cast<double>(particles.neighbour_searches())}};
+  restart_state.insert(restart_state.end(),
+                       {{"wall_work", particles.wall_work},
+                        {"neighbour_searches", static_cast<double>(particles.neighbour_searches())}});
   if (coupling) {
     fields.insert(fields.end(), {sxx, syy, sxy});
     coupling->add_snapshot_fields(particles, slot, fields);
@@ -485,6 +555,10 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   }
   if (scene.has_structure) add_displacement_columns(scene, columns);
   RunFrame frame(spec, opt, columns, D);
+  frame.set_books_advice(spec.fluid.model == "wcsph"
+                             ? "try a smaller fluid.courant (or structure.courant with a structure)"
+                             : "try a smaller fluid.courant, or shifting (fluid.shifting.type), or, with a "
+                               "structure, a smaller structure.courant or more coupling.max_iterations");
   std::unique_ptr<FluidModel<D>> model_ptr;
   IsphSolver<D>* isph = nullptr;    // the model in use: one of these two
   WcsphSolver<D>* wcsph = nullptr;
@@ -512,6 +586,8 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   if (wcsph && coupling)
     structure_hook = [&](Real t0, Real h) { coupling->explicit_step(t0, h, *wcsph, timer); };
 
+  const Real releasable =
+      fluid_releasable_potential(particles) + (coupling ? structure_releasable_potential(coupling->solver()) : 0);
   auto record = [&](Real t) {
     timer.time("output", [&] {
       std::vector<double> row{t};
@@ -535,12 +611,12 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
       frame.probes.add_row(row);
       // energy the moving walls gave the fluid, and the moving clamps the structure
       const Real ww = particles.wall_work + (coupling ? coupling->solver().clamp_work() : 0);
-      frame.energy.add_row({t, ek, ep, sk, sp, ss, ww, ek + ep + sk + sp + ss - ww});
+      frame.add_energy_row(t, ek, ep, sk, sp, ss, ww, releasable);
     });
   };
   auto snapshot = [&](Real t) {
     timer.time("output", [&] {
-      write_fluid_snapshot(frame.snapshots, t, model, coupling.get());
+      write_fluid_snapshot(frame.snapshots, t, model, coupling.get(), frame.books_attributes());
       frame.flush();
     });
   };
@@ -555,6 +631,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
       particles.restore(state);
       model.restore_fields(state);
       const bool complete = coupling ? coupling->restore(state, particles) : true;
+      frame.continue_books(state);
       t = state.time;
       frame.start_at(t, opt.restart, complete);
       if (opt.progress)
@@ -646,6 +723,10 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
       break;
     }
     if (frame.due_record(t, t >= spec.end_time - eps)) record(t);
+    if (frame.result.status == "diverged") {  // the energy books broke
+      if (frame.last_snapshot_due()) snapshot(t);
+      break;
+    }
     if (frame.due_snapshot(t)) snapshot(t);
     frame.progress(t, step, timer.total() - timer.get("output") - timer.get("setup"));
   }
