@@ -5,20 +5,17 @@
 //    W = s [0.25 (2 - q)^3]           for 1 <= q < 2,   s = 10/(7 pi h^2) in 2D, 1/(pi h^3) in 3D.
 //  Wendland C2 (Wendland 1995), q = r/h:
 //    W = s (1 - q/2)^4 (2q + 1)       for 0 <= q < 2,   s = 7/(4 pi h^2) in 2D, 21/(16 pi h^3) in 3D.
-#include <stdexcept>
-#include <string>
+#include <span>
 
+#include "core/enum_names.hpp"
 #include "core/types.hpp"
 
 namespace isph {
 
 enum class KernelType : int { cubic_spline = 0, wendland_c2 = 1 };
-
-inline KernelType kernel_type_from_name(const std::string& name) {
-  if (name == "cubic_spline") return KernelType::cubic_spline;
-  if (name == "wendland_c2") return KernelType::wendland_c2;
-  throw std::invalid_argument("unknown kernel type '" + name + "' (cubic_spline | wendland_c2)");
-}
+constexpr EnumName<KernelType> kKernelTypeNames[] = {{KernelType::cubic_spline, "cubic_spline"},
+                                                     {KernelType::wendland_c2, "wendland_c2"}};
+constexpr std::span<const EnumName<KernelType>> enum_names(KernelType) { return kKernelTypeNames; }
 
 template <int D>
 struct SmoothingKernel {

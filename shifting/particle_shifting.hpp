@@ -30,10 +30,9 @@
 //  with G_a from the free-slip extension of the velocity into walls (FluidView::velocity_mirrored):
 //  the no-slip jump across an unresolved boundary layer is not a field a Taylor series may extend.
 #include "kernels/fluid_view.hpp"
+#include "shifting/shifting_type.hpp"
 
 namespace isph {
-
-enum class ShiftingType : int { none = 0, xu = 1, ops = 2 };
 
 // Pass 1: outward unit normal, Eqs. 25-26, of surface particles and of the fluid particles whose
 // Skillen coefficient is below 1 (the PPE's surface condition needs it there); zero elsewhere.

@@ -12,24 +12,6 @@
 
 namespace isph {
 
-StructureIntegrator structure_integrator_from_name(const std::string& name) {
-  if (name == "rk4") return StructureIntegrator::rk4;
-  if (name == "verlet") return StructureIntegrator::verlet;
-  throw std::invalid_argument("unknown structure integrator '" + name + "' (rk4 | verlet)");
-}
-
-StructureGradient structure_gradient_from_name(const std::string& name) {
-  if (name == "linear") return StructureGradient::linear;
-  if (name == "quadratic") return StructureGradient::quadratic;
-  throw std::invalid_argument("unknown structure gradient '" + name + "' (linear | quadratic)");
-}
-
-StructureQuadrature structure_quadrature_from_name(const std::string& name) {
-  if (name == "point") return StructureQuadrature::point;
-  if (name == "cell") return StructureQuadrature::cell;
-  throw std::invalid_argument("unknown structure quadrature '" + name + "' (point | cell)");
-}
-
 template <int D>
 void tlsph_stress(const Exec& exec, const TlsphView<D>& view) {
   parallel_for(exec, view.n, TlsphStress<D>{view});

@@ -21,25 +21,13 @@
 #include "core/device_neighbour_search.hpp"
 #include "core/neighbour_search.hpp"
 #include "core/parallel.hpp"
+#include "core/rigid_motion.hpp"
 #include "core/types.hpp"
 #include "kernels/operators.hpp"
-#include "core/rigid_motion.hpp"
+#include "structure/structure_options.hpp"
 #include "structure/tlsph_functors.hpp"
 
 namespace isph {
-
-enum class StructureIntegrator { rk4, verlet };
-StructureIntegrator structure_integrator_from_name(const std::string& name);
-
-// The pair gradients c_ab of the deformation gradient: uncorrected (g_ab), kernel-corrected (L_a g_ab,
-// exact for linear fields; Eq. 35-36) or exact for quadratic fields (QuadraticCorrection).
-enum class StructureGradient { uncorrected, linear, quadratic };
-StructureGradient structure_gradient_from_name(const std::string& name);
-
-// The quadrature of the strain energy: at the particle (the midpoint rule of SPH), or over its cell
-// with the strain's linear variation across it (TlsphStrainGradient).
-enum class StructureQuadrature { point, cell };
-StructureQuadrature structure_quadrature_from_name(const std::string& name);
 
 // An applied load: a per-particle acceleration at full load, ramped linearly over ramp_time.
 template <int D>

@@ -1,11 +1,13 @@
-// The `isph` command: run a case, check a case file, list the bundled cases.
+// The `isph` command: run a case, check a case file, list the bundled cases, print the case keys.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 
 #include "core/device_emulation.hpp"
 #include "io/case_loader.hpp"
+#include "io/case_schema.hpp"
 #include "sim/run.hpp"
 #include "sim/scene.hpp"
 
@@ -78,6 +80,11 @@ int main(int argc, char** argv) {
   auto* cases = app.add_subcommand("cases", "list the bundled cases");
   cases->add_option("--dir", cases_dir, "folder of case files");
 
+  std::string docs_path;
+  auto* keys = app.add_subcommand("keys", "print the reference of the settings keys (docs/CASES.md's tables)");
+  keys->add_option("--update", docs_path, "regenerate the key tables of this markdown file in place")
+      ->check(CLI::ExistingFile);
+
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -87,6 +94,20 @@ int main(int argc, char** argv) {
         if (e.path().extension() == ".toml") files.push_back(e.path());
       std::sort(files.begin(), files.end());
       for (const auto& f : files) std::printf("%-28s %s\n", f.filename().c_str(), describe(f).c_str());
+      return 0;
+    }
+    if (*keys) {
+      if (docs_path.empty()) {
+        for (const std::string& section : case_sections())
+          std::printf("## %s\n\n%s\n", section.empty() ? "top level" : ("[" + section + "]").c_str(),
+                      key_reference(section).c_str());
+        return 0;
+      }
+      std::ifstream in(docs_path);
+      const std::string document{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+      const std::string updated = with_key_reference(document);
+      if (updated != document) std::ofstream(docs_path) << updated;
+      std::printf("%s: %s\n", docs_path.c_str(), updated == document ? "up to date" : "key tables regenerated");
       return 0;
     }
     if (*check) {

@@ -38,6 +38,7 @@ struct MotionSpec {
   double phase = 0.0;                        // sine [rad]
   std::string file;                          // csv: as given, resolved against the case file's folder
   std::vector<double> times, values;         // csv: the rows, read by the loader
+  bool operator==(const MotionSpec&) const = default;
 };
 
 // The scalar law s(t) of a motion and its rate ds/dt (MotionSpec::profile).

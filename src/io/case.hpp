@@ -7,10 +7,50 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_names.hpp"
 #include "core/rigid_motion.hpp"     // MotionSpec
+#include "kernels/smoothing_kernel.hpp"  // KernelType
 #include "poisson/linear_solver.hpp"  // hypre_available
+#include "shifting/shifting_type.hpp"
+#include "structure/structure_options.hpp"
 
 namespace isph {
+
+// The options of the fluid and the coupling that a case file chooses by name (docs/CASES.md).
+enum class FluidMethod { isph, wcsph };
+constexpr EnumName<FluidMethod> kFluidMethodNames[] = {{FluidMethod::isph, "isph"}, {FluidMethod::wcsph, "wcsph"}};
+constexpr std::span<const EnumName<FluidMethod>> enum_names(FluidMethod) { return kFluidMethodNames; }
+
+enum class Turbulence { none, sps };
+constexpr EnumName<Turbulence> kTurbulenceNames[] = {{Turbulence::none, "none"}, {Turbulence::sps, "sps"}};
+constexpr std::span<const EnumName<Turbulence>> enum_names(Turbulence) { return kTurbulenceNames; }
+
+enum class SurfacePressure { extrapolated, zero };
+constexpr EnumName<SurfacePressure> kSurfacePressureNames[] = {{SurfacePressure::extrapolated, "extrapolated"},
+                                                               {SurfacePressure::zero, "zero"}};
+constexpr std::span<const EnumName<SurfacePressure>> enum_names(SurfacePressure) { return kSurfacePressureNames; }
+
+enum class EscapePolicy { remove, stop };
+constexpr EnumName<EscapePolicy> kEscapePolicyNames[] = {{EscapePolicy::remove, "remove"},
+                                                         {EscapePolicy::stop, "stop"}};
+constexpr std::span<const EnumName<EscapePolicy>> enum_names(EscapePolicy) { return kEscapePolicyNames; }
+
+enum class WcsphTimeStepping { dual_criteria, single_criterion };
+constexpr EnumName<WcsphTimeStepping> kWcsphTimeSteppingNames[] = {
+    {WcsphTimeStepping::dual_criteria, "dual_criteria"}, {WcsphTimeStepping::single_criterion, "single_criterion"}};
+constexpr std::span<const EnumName<WcsphTimeStepping>> enum_names(WcsphTimeStepping) { return kWcsphTimeSteppingNames; }
+
+enum class InteractionForce { pairwise, gradient };
+constexpr EnumName<InteractionForce> kInteractionForceNames[] = {{InteractionForce::pairwise, "pairwise"},
+                                                                 {InteractionForce::gradient, "gradient"}};
+constexpr std::span<const EnumName<InteractionForce>> enum_names(InteractionForce) { return kInteractionForceNames; }
+
+enum class SubstepInteraction { held, interpolated };
+constexpr EnumName<SubstepInteraction> kSubstepInteractionNames[] = {
+    {SubstepInteraction::held, "held"}, {SubstepInteraction::interpolated, "interpolated"}};
+constexpr std::span<const EnumName<SubstepInteraction>> enum_names(SubstepInteraction) {
+  return kSubstepInteractionNames;
+}
 
 // A geometric primitive. In 2D: "rectangle" (min, max) or "circle" (center, radius).
 // In 3D: "box" (min, max) or "sphere" (center, radius). Unused components stay zero.
@@ -21,6 +61,7 @@ struct Shape {
   std::array<double, 3> center{};   // circle / sphere
   double radius = 0.0;
   bool contains(const std::array<double, 3>& p, int dimension) const;
+  bool operator==(const Shape&) const = default;
 };
 
 enum class ParticleKind : int { fluid = 0, wall = 1, structure = 2 };
@@ -35,6 +76,7 @@ struct MaterialSpec {
   double poisson_ratio = 0.0;                     // in (-1, 0.5)
   std::string plane = "strain";                   // 2D only: "strain" | "stress"
   double viscosity = 0.0;                         // newtonian: kinematic viscosity [m^2/s], > 0
+  bool operator==(const MaterialSpec&) const = default;
 };
 
 // Prescribed initial velocity of a body.
@@ -52,6 +94,7 @@ struct InitialVelocitySpec {
   std::array<double, 3> root{};              // point on the clamped end
   std::array<double, 3> axis{1, 0, 0};       // beam axis (unit)
   std::array<double, 3> direction{0, 1, 0};  // direction of the velocity (unit)
+  bool operator==(const InitialVelocitySpec&) const = default;
 };
 
 // A body: a primitive filled on a lattice of spacing s (by default cell-centred: the lattice points
@@ -73,6 +116,7 @@ struct BodySpec {
   InitialVelocitySpec initial_velocity;
   MotionSpec motion;                         // walls; structures: their clamps
   double spacing(double case_dx) const { return dx > 0 ? dx : case_dx / refinement; }
+  bool operator==(const BodySpec&) const = default;
 };
 
 // An applied load. "edge" and "point": a total force shared equally by the body's particles inside
@@ -87,6 +131,7 @@ struct LoadSpec {
   std::array<double, 3> traction{};          // traction: force per unit area of the loaded face [Pa]
   std::array<double, 3> acceleration{};      // body: [m/s^2]
   double ramp_time = 0.0;                    // [s]
+  bool operator==(const LoadSpec&) const = default;
 };
 
 // A probe.
@@ -102,21 +147,24 @@ struct ProbeSpec {
   std::string name;
   std::string type = "displacement";
   std::array<double, 3> point{};
+  bool operator==(const ProbeSpec&) const = default;
 };
 
 struct KernelSpec {
-  std::string type = "cubic_spline";         // cubic_spline | wendland_c2
+  KernelType type = KernelType::cubic_spline;
   double h_factor = 1.2;                     // h = h_factor * dx (seed 001 uses 1.2)
   bool correction = true;                    // kernel gradient correction (shape tensor K)
+  bool operator==(const KernelSpec&) const = default;
 };
 
 struct StructureSpec {
-  std::string integrator = "rk4";            // rk4 | verlet
-  std::string gradient = "linear";           // linear | quadratic: pair gradients exact for linear or quadratic fields
-  std::string quadrature = "point";          // point | cell: the strain energy at the particle or over its cell
+  StructureIntegrator integrator = StructureIntegrator::rk4;
+  StructureGradient gradient = StructureGradient::linear;       // pair gradients exact for linear or quadratic fields
+  StructureQuadrature quadrature = StructureQuadrature::point;  // the strain energy at the particle or over its cell
   double courant = 0.5;                      // dt = courant * h / c_p (c_p: P-wave speed)
   double damping = 0.0;                      // mass-proportional damping rate [1/s]
   double hourglass = 5.0;                    // hourglass control coefficient alpha (0 = off); docs/VALIDATION.md
+  bool operator==(const StructureSpec&) const = default;
 };
 
 // The PPE linear solver (poisson/linear_solver.hpp) and what to do when it fails. The default is
@@ -135,43 +183,49 @@ struct PpeSolverSpec {
                                                                 // tried after a failed solve
   int preconditioner_reuse = 0;              // steps a preconditioner serves the next steps' matrices while
                                              // the particles keep their order (0: a new one every step)
+  bool operator==(const PpeSolverSpec&) const = default;
 };
 
 struct ShiftingSpec {
-  std::string type = "ops";                  // none | xu (Xu/Lind, Eqs. 21-23) | ops (+ Eqs. 24-26 at the surface)
+  ShiftingType type = ShiftingType::ops;     // xu: Xu/Lind, Eqs. 21-23; ops: + Eqs. 24-26 at the surface
   double coefficient = 0.05;                 // C of Eq. 21, in [0.01, 0.1]
   double max_fraction = 0.2;                 // cap on |dr| as a fraction of h (Lind et al. 2012)
   bool taylor_correction = true;             // Eqs. 20, 31-32
+  bool operator==(const ShiftingSpec&) const = default;
 };
 
 // The weakly compressible comparator (seed 002; sim/wcsph.hpp).
 struct WcsphSpec {
-  std::string time_stepping = "dual_criteria";  // dual_criteria (Eqs. 9-15) | single_criterion
+  WcsphTimeStepping time_stepping = WcsphTimeStepping::dual_criteria;  // dual: Eqs. 9-15
   double advection_courant = 0.25;           // Eq. 9: CFL_ad
   double acoustic_courant = 0.6;             // Eq. 10: CFL_ac; default 0.6 (dual_criteria) or 0.25 (single_criterion)
   double sound_speed = 0.0;                  // c of Eq. 2 [m/s]; 0: 10 U_max, U_max = sqrt(2) x the reference velocity
   double riemann_limiter = 3.0;              // eta of the low-dissipation limiter beta = min(eta max(U_L - U_R, 0)/c, 1)
+  bool operator==(const WcsphSpec&) const = default;
 };
 
 // The fluid stage: the projection ISPH of seed 001 §2.1 (model "isph") or the weakly compressible
 // comparator of seed 002 (model "wcsph"; it shares the particles, walls, viscosity, probes and coupling,
 // and ignores the ISPH-only keys: free-surface thresholds, shifting, ppe).
 struct FluidSpec {
-  std::string model = "isph";                // isph | wcsph
+  FluidMethod model = FluidMethod::isph;
   double courant = 0.1;                      // Eq. 49: dt = courant h / U
   double viscous_number = 0.125;             // dt <= viscous_number h^2 / nu
   double reference_velocity = 0.0;           // floor on U in Eq. 49 [m/s]; 0: sqrt(2 |g| H_fluid), or the fastest wall
   double max_dt = 0.0;                       // [s]; 0: no cap
-  std::string turbulence = "none";           // none | sps (Eq. 10)
+  Turbulence turbulence = Turbulence::none;  // sps: Eq. 10
   double smagorinsky = 0.1;                  // c_s of Eq. 10
   bool free_surface = true;                  // detect the free surface (Dirichlet p = 0, Eq. 17)
   double surface_threshold = 0.0;            // div r below it: surface; 0: 1.4 (2D), 2.4 (3D)
   double surface_full = 0.0;                 // div r above it: Skillen alpha = 1; 0: 1.6 (2D), 2.6 (3D)
-  std::string surface_pressure = "extrapolated";  // zero (p = 0 at surface particles) | extrapolated (p = 0 dx/2 beyond)
-  std::string escape = "remove";             // a fluid particle leaving the escape box: remove (and count) | stop the run
+  SurfacePressure surface_pressure =
+      SurfacePressure::extrapolated;  // zero: p = 0 at surface particles; extrapolated: dx/2 beyond
+  EscapePolicy escape =
+      EscapePolicy::remove;  // a fluid particle leaving the escape box: removed (and counted), or the run stops
   ShiftingSpec shifting;
   PpeSolverSpec ppe;
   WcsphSpec wcsph;
+  bool operator==(const FluidSpec&) const = default;
 };
 
 // The fluid-structure coupling (seed 001 §2.3), used when a case has fluid and structure bodies.
@@ -182,10 +236,13 @@ struct CouplingSpec {
   int max_iterations = 30;                   // interface iterations per fluid step (1: explicit, staggered)
   double first_ppe_tolerance = 0.0;          // PPE tolerance of a step's first interface iteration (0: the PPE's)
   int reuse_steps = 8;                       // quasi-Newton: steps whose iterations are reused (0: none)
-  std::string interaction_force = "pairwise";  // pairwise | gradient (Eq. 48 literally; structure/interaction.hpp)
-  std::string substep_interaction = "held";  // held (alpha of the step's end) | interpolated (from the last step's)
+  InteractionForce interaction_force =
+      InteractionForce::pairwise;  // gradient: Eq. 48 literally (structure/interaction.hpp)
+  SubstepInteraction substep_interaction =
+      SubstepInteraction::held;              // held: alpha of the step's end; interpolated: from the last step's
   bool wall_contact = true;                  // structure particles overlapping wall particles are pushed out (sim/coupling.hpp)
   bool implicit_added_mass = true;           // the structure's inertia in its PPE rows (sim/coupling.hpp); false: a_s from the iterations alone
+  bool operator==(const CouplingSpec&) const = default;
 };
 
 // Periodic axes: particles leaving [lo, hi) re-enter on the other side and neighbours are found
@@ -194,17 +251,20 @@ struct PeriodicSpec {
   std::array<bool, 3> axis{false, false, false};
   std::array<double, 3> lo{};
   std::array<double, 3> hi{};
+  bool operator==(const PeriodicSpec&) const = default;
 };
 
 struct OutputSpec {
   double interval = 0.0;                     // probes and energies every `interval` [s] (0: every 100 steps)
   double snapshot_interval = 0.0;            // HDF5 snapshot every ... [s] (0: first and last only)
   bool snapshots = true;
+  bool operator==(const OutputSpec&) const = default;
 };
 
 struct StagesSpec {
   bool structure = true;                     // run TLSPH (needs structure bodies)
   bool fluid = false;                        // run ISPH (needs fluid bodies)
+  bool operator==(const StagesSpec&) const = default;
 };
 
 struct CaseSpec {
@@ -226,6 +286,7 @@ struct CaseSpec {
   std::vector<LoadSpec> loads;
   std::vector<ProbeSpec> probes;
   std::string resolved_toml;                 // the configuration as run (written to case.resolved.toml)
+  bool operator==(const CaseSpec&) const = default;
 };
 
 }  // namespace isph

@@ -15,8 +15,10 @@
 #include <sstream>
 #include <string_view>
 #include <toml.hpp>
+#include <type_traits>
 #include <utility>
 
+#include "io/case_schema.hpp"
 #include "poisson/linear_solver.hpp"
 
 namespace isph {
@@ -36,32 +38,6 @@ std::string join(const std::vector<std::string>& parts, const std::string& separ
   std::string text;
   for (std::size_t i = 0; i < parts.size(); ++i) text += (i ? separator : "") + parts[i];
   return text;
-}
-
-// The shortest text that reads back as the same double.
-std::string show(double x) {
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x);
-  return std::string(buffer, result.ptr);
-}
-
-// A TOML basic string.
-std::string quote(const std::string& s) {
-  std::string text = "\"";
-  for (const char ch : s) {
-    const auto code = static_cast<unsigned char>(ch);
-    if (ch == '"' || ch == '\\') {
-      text += '\\';
-      text += ch;
-    } else if (code < 0x20 || code == 0x7f) {
-      char escape[8];
-      std::snprintf(escape, sizeof escape, "\\u%04x", code);
-      text += escape;
-    } else {
-      text += ch;
-    }
-  }
-  return text + "\"";
 }
 
 std::string trim(const std::string& s) {
@@ -84,7 +60,7 @@ std::string index_path(const std::string& path, std::size_t index) {
 
 std::string one_of(const Choices& allowed) {
   std::vector<std::string> quoted;
-  for (const auto& choice : allowed) quoted.push_back(quote(choice));
+  for (const auto& choice : allowed) quoted.push_back(toml_string(choice));
   return "must be one of " + join(quoted, ", ");
 }
 
@@ -199,7 +175,7 @@ bool convert(const toml::value& v, const std::string& path, Context& ctx, double
   if (!v.is_floating() && !v.is_integer()) return mismatch(v, "a number", path, ctx);
   const double x = v.is_integer() ? static_cast<double>(v.as_integer()) : v.as_floating();
   if (!std::isfinite(x)) {
-    ctx.problem(path, "must be finite (got " + show(x) + ")");
+    ctx.problem(path, "must be finite (got " + shortest_number(x) + ")");
     return false;
   }
   out = x;
@@ -212,7 +188,8 @@ bool convert(const toml::value& v, const std::string& path, Context& ctx, std::s
   return true;
 }
 
-// A point or vector: exactly `dimension` numbers; the unused components stay zero.
+// A point or vector: exactly `dimension` numbers; the unused components keep their defaults, so that a
+// case reads back to the same case whether or not the file gives the key.
 bool convert(const toml::value& v, const std::string& path, Context& ctx, Vec3& out) {
   const std::string expected = std::to_string(ctx.dimension) + " numbers";
   if (!v.is_array()) return mismatch(v, "an array of " + expected, path, ctx);
@@ -222,7 +199,7 @@ bool convert(const toml::value& v, const std::string& path, Context& ctx, Vec3& 
                           std::to_string(items.size()));
     return false;
   }
-  Vec3 result{};
+  Vec3 result = out;
   bool ok = true;
   for (std::size_t i = 0; i < items.size(); ++i)
     ok = convert(items[i], index_path(path, i), ctx, result[i]) && ok;
@@ -261,12 +238,12 @@ bool convert(const toml::value& v, const std::string& path, Context& ctx, T& out
 bool read_positive(Table& t, const std::string& key, double& out, Need need = Need::optional) {
   if (!t.read(key, out, need)) return false;
   if (out > 0.0) return true;
-  t.problem(key, "must be > 0 (got " + show(out) + ")");
+  t.problem(key, "must be > 0 (got " + shortest_number(out) + ")");
   return false;
 }
 
 void read_non_negative(Table& t, const std::string& key, double& out) {
-  if (t.read(key, out) && out < 0.0) t.problem(key, "must be >= 0 (got " + show(out) + ")");
+  if (t.read(key, out) && out < 0.0) t.problem(key, "must be >= 0 (got " + shortest_number(out) + ")");
 }
 
 // Returns whether `out` holds a valid choice: the one read, or the default when the key is optional
@@ -276,7 +253,7 @@ bool read_choice(Table& t, const std::string& key, std::string& out, const Choic
   std::string value;
   if (!t.read(key, value, need)) return need == Need::optional && !t.has(key);
   if (std::find(allowed.begin(), allowed.end(), value) == allowed.end()) {
-    t.problem(key, one_of(allowed) + " (got " + quote(value) + ")");
+    t.problem(key, one_of(allowed) + " (got " + toml_string(value) + ")");
     return false;
   }
   out = value;
@@ -288,19 +265,6 @@ void reject(Table& t, const std::string& key, const std::string& reason) {
   if (!t.has(key)) return;
   t.ignore(key);
   t.problem(key, reason);
-}
-
-// An integer > 0 that fits an int.
-void read_positive_int(Table& t, const std::string& key, int& out) {
-  std::int64_t value = out;
-  if (!t.read(key, value)) return;
-  if (value <= 0)
-    t.problem(key, "must be > 0 (got " + std::to_string(value) + ")");
-  else if (value > std::numeric_limits<int>::max())
-    t.problem(key, "must be <= " + std::to_string(std::numeric_limits<int>::max()) + " (got " +
-                       std::to_string(value) + ")");
-  else
-    out = static_cast<int>(value);
 }
 
 // A direction: any non-zero vector, stored normalized.
@@ -332,10 +296,10 @@ bool check_shape_type(Table& t, const std::string& type) {
   };
   if (in(mine)) return true;
   if (in(theirs))
-    t.problem("type", quote(type) + " is a " + (planar ? "3D" : "2D") + " shape, but dimension = " +
-                          std::to_string(t.ctx().dimension) + "; " + one_of(mine));
+    t.problem("type", toml_string(type) + " is a " + (planar ? "3D" : "2D") +
+                          " shape, but dimension = " + std::to_string(t.ctx().dimension) + "; " + one_of(mine));
   else
-    t.problem("type", one_of(mine) + " (got " + quote(type) + ")");
+    t.problem("type", one_of(mine) + " (got " + toml_string(type) + ")");
   return false;
 }
 
@@ -354,156 +318,126 @@ void read_fields(Table& t, Shape& s) {
   for (int k = 0; k < t.ctx().dimension; ++k) {
     if (s.min[k] < s.max[k]) continue;
     t.problem("max", "must be > min in every component (component " + std::to_string(k) + ": min " +
-                         show(s.min[k]) + ", max " + show(s.max[k]) + ")");
+                         shortest_number(s.min[k]) + ", max " + shortest_number(s.max[k]) + ")");
     return;
   }
 }
 
-void read_fields(Table& t, KernelSpec& k) {
-  read_choice(t, "type", k.type, {"cubic_spline", "wendland_c2"});
-  read_positive(t, "h_factor", k.h_factor);
-  t.read("correction", k.correction);
-}
-
-void read_fields(Table& t, StructureSpec& s) {
-  read_choice(t, "integrator", s.integrator, {"rk4", "verlet"});
-  read_choice(t, "gradient", s.gradient, {"linear", "quadratic"});
-  read_choice(t, "quadrature", s.quadrature, {"point", "cell"});
-  read_positive(t, "courant", s.courant);
-  read_non_negative(t, "damping", s.damping);
-  read_non_negative(t, "hourglass", s.hourglass);
-}
-
-void read_fields(Table& t, CouplingSpec& c) {
-  std::int64_t substeps = c.substeps;
-  if (t.read("substeps", substeps)) {
-    if (substeps < 0 || substeps > 1000000)
-      t.problem("substeps", "must be 0 (from the structure's stability limit) or a count in 1..1000000 (got " +
-                                std::to_string(substeps) + ")");
-    else
-      c.substeps = static_cast<int>(substeps);
-  }
-  t.read("fsi_shifting", c.fsi_shifting);
-  t.read("wall_contact", c.wall_contact);
-  t.read("implicit_added_mass", c.implicit_added_mass);
-  read_choice(t, "interaction_force", c.interaction_force, {"gradient", "pairwise"});
-  read_choice(t, "substep_interaction", c.substep_interaction, {"held", "interpolated"});
-  if (t.read("tolerance", c.tolerance) && !(c.tolerance > 0.0 && c.tolerance < 1.0))
-    t.problem("tolerance", "must be > 0 and < 1 (got " + show(c.tolerance) + ")");
-  read_positive_int(t, "max_iterations", c.max_iterations);
-  if (t.read("first_ppe_tolerance", c.first_ppe_tolerance) &&
-      !(c.first_ppe_tolerance >= 0.0 && c.first_ppe_tolerance < 1.0))
-    t.problem("first_ppe_tolerance",
-              "must be 0 (the PPE's tolerance) or > 0 and < 1 (got " + show(c.first_ppe_tolerance) + ")");
-  std::int64_t reuse = c.reuse_steps;
-  if (t.read("reuse_steps", reuse)) {
-    if (reuse < 0 || reuse > 100)
-      t.problem("reuse_steps", "must be in 0..100 (got " + std::to_string(reuse) + ")");
-    else
-      c.reuse_steps = static_cast<int>(reuse);
-  }
-}
-
-void read_fields(Table& t, OutputSpec& o) {
-  read_non_negative(t, "interval", o.interval);
-  read_non_negative(t, "snapshot_interval", o.snapshot_interval);
-  t.read("snapshots", o.snapshots);
-}
-
-void read_fields(Table& t, StagesSpec& s) {
-  t.read("structure", s.structure);
-  t.read("fluid", s.fluid);
-}
-
-void read_fields(Table& t, ShiftingSpec& s) {
-  read_choice(t, "type", s.type, {"none", "xu", "ops"});
-  if (read_positive(t, "coefficient", s.coefficient) && s.coefficient > 1.0)
-    t.problem("coefficient", "must be <= 1 (got " + show(s.coefficient) + ")");
-  read_positive(t, "max_fraction", s.max_fraction);
-  t.read("taylor_correction", s.taylor_correction);
-}
-
-// Every option any backend offers (poisson/linear_solver.hpp), in catalogue order.
-template <class Options>
-Choices any_backend(Options options) {
-  Choices all;
-  for (const std::string& b : solver_backends())
-    for (const std::string& o : options(b))
-      if (std::find(all.begin(), all.end(), o) == all.end()) all.push_back(o);
-  return all;
-}
-
-void read_fields(Table& t, PpeSolverSpec& p) {
-  // The options of every backend, then those of the chosen one.
-  const bool backend_ok = read_choice(t, "backend", p.backend, solver_backends());
-  if (read_choice(t, "method", p.method, any_backend(solver_methods)) && backend_ok) {
-    const Choices& allowed = solver_methods(p.backend);
-    if (std::find(allowed.begin(), allowed.end(), p.method) == allowed.end())
-      t.problem("method", quote(p.method) + " is not available with backend = " + quote(p.backend) + "; " +
-                              one_of(allowed));
-  }
-  if (!t.has("preconditioner")) p.preconditioner = solver_preconditioners(p.backend).front();
-  if (read_choice(t, "preconditioner", p.preconditioner, any_backend(solver_preconditioners)) &&
-      backend_ok && t.has("preconditioner")) {
-    const Choices& allowed = solver_preconditioners(p.backend);
-    if (std::find(allowed.begin(), allowed.end(), p.preconditioner) == allowed.end())
-      t.problem("preconditioner", quote(p.preconditioner) + " is not available with backend = " +
-                                      quote(p.backend) + "; " + one_of(allowed));
-  }
-  if (t.read("tolerance", p.tolerance) && !(p.tolerance > 0.0 && p.tolerance < 1.0))
-    t.problem("tolerance", "must be > 0 and < 1 (got " + show(p.tolerance) + ")");
-  read_positive_int(t, "max_iterations", p.max_iterations);
-  if (t.has("backend") && !t.has("fallback")) p.fallback = "none";  // case.hpp: the default pair is kept whole
-  if (read_choice(t, "fallback", p.fallback, {"none", "eigen", "hypre"}) && backend_ok &&
-      p.fallback == p.backend)
-    t.problem("fallback", "must differ from backend (both " + quote(p.backend) + "), or be \"none\"");
-  std::int64_t reuse = p.preconditioner_reuse;
-  if (t.read("preconditioner_reuse", reuse)) {
-    if (reuse < 0 || reuse > 1000)
-      t.problem("preconditioner_reuse", "must be in 0..1000 steps (got " + std::to_string(reuse) + ")");
-    else
-      p.preconditioner_reuse = static_cast<int>(reuse);
-  }
-}
+// ---------------------------------------------------------------------------------------------
+// The settings: read from the declared keys (case_schema.hpp), then each section's cross-key rules
+// ---------------------------------------------------------------------------------------------
 
 // The default surface thresholds on div r (case.hpp: FluidSpec).
 double default_surface_threshold(int dimension) { return dimension == 2 ? 1.4 : 2.4; }
 double default_surface_full(int dimension) { return dimension == 2 ? 1.6 : 2.6; }
 
-void read_fields(Table& t, WcsphSpec& w) {
-  read_choice(t, "time_stepping", w.time_stepping, {"dual_criteria", "single_criterion"});
-  read_positive(t, "advection_courant", w.advection_courant);
-  if (!t.has("acoustic_courant"))  // seed 002 §2.2: 0.6 with dual-criteria stepping, 0.25 without
-    w.acoustic_courant = w.time_stepping == "dual_criteria" ? 0.6 : 0.25;
-  read_positive(t, "acoustic_courant", w.acoustic_courant);
-  read_non_negative(t, "sound_speed", w.sound_speed);
-  read_non_negative(t, "riemann_limiter", w.riemann_limiter);
+// Reads one declared key if present; a value of the wrong type, out of bounds or not among the
+// choices is reported and leaves the default.
+template <class T>
+void read_key_as(Table& t, CaseSpec& c, const CaseKey& key) {
+  T value{};
+  if (!t.read(key.name, value, key.required ? Need::required : Need::optional)) return;
+  if constexpr (std::is_same_v<T, std::int64_t> || std::is_same_v<T, double>) {
+    const bool integer = std::is_same_v<T, std::int64_t>;
+    if (!key.bounds.admits(static_cast<double>(value))) {
+      t.problem(key.name, "must be " + key.bounds.text(integer) + " (got " +
+                              (integer ? std::to_string(value) : shortest_number(static_cast<double>(value))) + ")");
+      return;
+    }
+    if (integer && (value < std::numeric_limits<int>::min() || value > std::numeric_limits<int>::max())) {
+      t.problem(key.name, "must fit an int (got " + std::to_string(value) + ")");
+      return;
+    }
+  }
+  if constexpr (std::is_same_v<T, std::string>) {
+    if (key.type == KeyType::choice && std::find(key.choices.begin(), key.choices.end(), value) == key.choices.end()) {
+      t.problem(key.name, one_of(key.choices) + " (got " + toml_string(value) + ")");
+      return;
+    }
+  }
+  key.set(c, value);
 }
 
-void read_fields(Table& t, FluidSpec& f) {
-  read_choice(t, "model", f.model, {"isph", "wcsph"});
-  read_positive(t, "courant", f.courant);
-  read_positive(t, "viscous_number", f.viscous_number);
-  read_non_negative(t, "reference_velocity", f.reference_velocity);
-  read_non_negative(t, "max_dt", f.max_dt);
-  read_choice(t, "turbulence", f.turbulence, {"none", "sps"});
-  read_positive(t, "smagorinsky", f.smagorinsky);
-  t.read("free_surface", f.free_surface);
-  read_non_negative(t, "surface_threshold", f.surface_threshold);
-  read_non_negative(t, "surface_full", f.surface_full);
-  read_choice(t, "surface_pressure", f.surface_pressure, {"extrapolated", "zero"});
-  read_choice(t, "escape", f.escape, {"remove", "stop"});
+void read_key(Table& t, CaseSpec& c, const CaseKey& key) {
+  switch (key.type) {
+    case KeyType::boolean:
+      return read_key_as<bool>(t, c, key);
+    case KeyType::integer:
+      return read_key_as<std::int64_t>(t, c, key);
+    case KeyType::number:
+      return read_key_as<double>(t, c, key);
+    case KeyType::vector:
+      return read_key_as<Vec3>(t, c, key);
+    default:
+      return read_key_as<std::string>(t, c, key);
+  }
+}
+
+void check_fluid(Table& t, CaseSpec& c) {
+  FluidSpec& f = c.fluid;
   // Judged with the defaults in place of zeros, so that a threshold above the default full value is caught.
   const int d = t.ctx().dimension;
   const double threshold = f.surface_threshold > 0.0 ? f.surface_threshold : default_surface_threshold(d);
   const double full = f.surface_full > 0.0 ? f.surface_full : default_surface_full(d);
-  if (f.surface_threshold >= 0.0 && f.surface_full >= 0.0 && !(full > threshold))
-    t.problem("surface_full", "must be > surface_threshold (got " + show(full) +
-                                  (f.surface_full > 0.0 ? "" : " (default)") + " <= " + show(threshold) +
+  if (!(full > threshold))
+    t.problem("surface_full", "must be > surface_threshold (got " + shortest_number(full) +
+                                  (f.surface_full > 0.0 ? "" : " (default)") + " <= " + shortest_number(threshold) +
                                   (f.surface_threshold > 0.0 ? "" : " (default)") + ")");
-  t.read("shifting", f.shifting);
-  t.read("ppe", f.ppe);
-  t.read("wcsph", f.wcsph);
+}
+
+// The method and the preconditioner must be the backend's; the preconditioner's default follows the
+// backend, and a case that names a backend gets no fallback unless it names one (case.hpp).
+void check_ppe(Table& t, CaseSpec& c) {
+  PpeSolverSpec& p = c.fluid.ppe;
+  const Choices& methods = solver_methods(p.backend);
+  if (std::find(methods.begin(), methods.end(), p.method) == methods.end())
+    t.problem("method", toml_string(p.method) + " is not available with backend = " + toml_string(p.backend) + "; " +
+                            one_of(methods));
+  const Choices& preconditioners = solver_preconditioners(p.backend);
+  if (!t.has("preconditioner"))
+    p.preconditioner = preconditioners.front();
+  else if (std::find(preconditioners.begin(), preconditioners.end(), p.preconditioner) == preconditioners.end())
+    t.problem("preconditioner", toml_string(p.preconditioner) + " is not available with backend = " +
+                                    toml_string(p.backend) + "; " + one_of(preconditioners));
+  if (t.has("backend") && !t.has("fallback")) p.fallback = "none";
+  if (p.fallback == p.backend)
+    t.problem("fallback", "must differ from backend (both " + toml_string(p.backend) + "), or be \"none\"");
+}
+
+// Seed 002 §2.2: the acoustic Courant number defaults to 0.6 with dual-criteria stepping, 0.25 without.
+void check_wcsph(Table& t, CaseSpec& c) {
+  WcsphSpec& w = c.fluid.wcsph;
+  if (!t.has("acoustic_courant")) w.acoustic_courant = w.time_stepping == WcsphTimeStepping::dual_criteria ? 0.6 : 0.25;
+}
+
+// A settings section being read: the target of a sub-table such as [fluid.ppe].
+struct Section {
+  CaseSpec* spec = nullptr;
+  std::string name;
+};
+
+void read_settings(Table& t, CaseSpec& c, const std::string& section);
+void read_fields(Table& t, Section& s) { read_settings(t, *s.spec, s.name); }
+
+// The keys of `section`, its sub-sections, then the section's cross-key rules.
+void read_settings(Table& t, CaseSpec& c, const std::string& section) {
+  for (const CaseKey& key : case_keys()) {
+    if (key.section != section) continue;
+    read_key(t, c, key);
+    if (key.path() == "dimension") t.ctx().dimension = c.dimension;  // the vectors and shapes depend on it
+  }
+  const std::string prefix = section.empty() ? "" : section + ".";
+  for (const std::string& child : case_sections()) {
+    if (child.size() <= prefix.size() || child.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string leaf = child.substr(prefix.size());
+    if (leaf.find('.') != std::string::npos) continue;
+    Section sub{&c, child};
+    if (!t.read(leaf, sub)) t.ignore(leaf);
+  }
+  if (section.empty() && t.has("name") && c.name.empty()) t.problem("name", "must not be empty");
+  if (section == "fluid") check_fluid(t, c);
+  if (section == "fluid.ppe") check_ppe(t, c);
+  if (section == "fluid.wcsph") check_wcsph(t, c);
 }
 
 // Each axis: [lo, hi] with hi > lo.
@@ -522,7 +456,7 @@ void read_fields(Table& t, PeriodicSpec& p) {
       continue;
     }
     if (!(range[1] > range[0])) {
-      t.problem(key, "hi must be > lo (got [" + show(range[0]) + ", " + show(range[1]) + "])");
+      t.problem(key, "hi must be > lo (got [" + shortest_number(range[0]) + ", " + shortest_number(range[1]) + "])");
       continue;
     }
     p.axis[k] = true;
@@ -535,8 +469,8 @@ void read_fields(Table& t, PeriodicSpec& p) {
 // modulus and the P-wave speed are infinite.
 void read_poisson_ratio(Table& t, double& nu) {
   if (!t.read("poisson_ratio", nu, Need::required)) return;
-  if (!(nu > -1.0)) t.problem("poisson_ratio", "must be > -1 (got " + show(nu) + ")");
-  if (!(nu < 0.5)) t.problem("poisson_ratio", "must be < 0.5 (got " + show(nu) + ")");
+  if (!(nu > -1.0)) t.problem("poisson_ratio", "must be > -1 (got " + shortest_number(nu) + ")");
+  if (!(nu < 0.5)) t.problem("poisson_ratio", "must be < 0.5 (got " + shortest_number(nu) + ")");
 }
 
 // Exactly one of youngs_modulus and bulk_modulus K; from K, E = 3K(1 - 2 nu).
@@ -665,15 +599,17 @@ void read_fields(Table& t, BodySpec& b) {
   std::string kind = kind_name(b.kind);
   if (read_choice(t, "kind", kind, {"fluid", "wall", "structure"})) b.kind = kind_from_name(kind);
   const bool wall = b.kind == ParticleKind::wall;
-  const std::string kind_is = "kind = " + quote(kind_name(b.kind));
+  const std::string kind_is = "kind = " + toml_string(kind_name(b.kind));
   // Structures need an elastic material and fluids a newtonian one (check_lists); walls may name one.
   t.read("material", b.material, wall ? Need::optional : Need::required);
   t.read("shape", b.shape, Need::required);
   if (b.kind == ParticleKind::structure) {
     t.read("clamps", b.clamps);
     if (t.read("refinement", b.refinement) && !(b.refinement >= 1.0 && b.refinement <= 16.0))
-      t.problem("refinement", "must be in [1, 16]: the structure's spacing is dx / refinement, finer than the "
-                              "water's or equal (got " + show(b.refinement) + ")");
+      t.problem("refinement",
+                "must be in [1, 16]: the structure's spacing is dx / refinement, finer than the "
+                "water's or equal (got " +
+                    shortest_number(b.refinement) + ")");
     if (read_positive(t, "dx", b.dx) && t.has("refinement"))
       t.problem("dx", "give the body's spacing as dx or as refinement, not both");
   } else {
@@ -686,8 +622,9 @@ void read_fields(Table& t, BodySpec& b) {
   if (t.read("lattice_offset", b.lattice_offset))
     for (int k = 0; k < t.ctx().dimension; ++k)
       if (!(b.lattice_offset[k] >= 0.0 && b.lattice_offset[k] < 1.0)) {
-        t.problem("lattice_offset", "every component must be in [0, 1), in units of the body's spacing (got " + show(b.lattice_offset[k]) +
-                                        " in component " + std::to_string(k) + ")");
+        t.problem("lattice_offset", "every component must be in [0, 1), in units of the body's spacing (got " +
+                                        shortest_number(b.lattice_offset[k]) + " in component " + std::to_string(k) +
+                                        ")");
         break;
       }
   if (wall) {
@@ -736,34 +673,14 @@ bool is_identifier(const std::string& s) {
 
 void read_fields(Table& t, ProbeSpec& p) {
   if (t.read("name", p.name, Need::required) && !is_identifier(p.name))
-    t.problem("name", "must match [A-Za-z0-9_]+ (got " + quote(p.name) + ")");
+    t.problem("name", "must match [A-Za-z0-9_]+ (got " + toml_string(p.name) + ")");
   read_choice(t, "type", p.type, {"displacement", "pressure", "velocity", "front", "max_speed"});
   t.read("point", p.point, p.type == "max_speed" ? Need::optional : Need::required);
 }
 
-void read_dimension(Table& t, CaseSpec& c) {
-  std::int64_t dimension = c.dimension;
-  if (!t.read("dimension", dimension)) return;
-  if (dimension != 2 && dimension != 3) {
-    t.problem("dimension", "must be 2 or 3 (got " + std::to_string(dimension) + ")");
-    return;
-  }
-  c.dimension = t.ctx().dimension = static_cast<int>(dimension);
-}
-
 void read_fields(Table& t, CaseSpec& c) {
-  if (t.read("name", c.name) && c.name.empty()) t.problem("name", "must not be empty");
-  read_dimension(t, c);  // first: the shapes and vectors below depend on it
-  read_positive(t, "dx", c.dx, Need::required);
-  read_positive(t, "end_time", c.end_time, Need::required);
-  t.read("gravity", c.gravity);
-  t.read("kernel", c.kernel);
-  t.read("structure", c.structure);
-  t.read("fluid", c.fluid);
-  t.read("coupling", c.coupling);
+  read_settings(t, c, "");
   t.read("periodic", c.periodic);
-  t.read("output", c.output);
-  t.read("stages", c.stages);
   t.read("materials", c.materials);
   t.read("bodies", c.bodies);
   t.read("loads", c.loads);
@@ -782,7 +699,7 @@ void check_unique_names(const std::vector<Spec>& items, const std::string& list,
     const auto [it, inserted] = first.emplace(items[i].name, i);
     if (!inserted)
       ctx.problem(index_path(list, i) + ".name",
-                  "duplicate name " + quote(items[i].name) + " (also " + index_path(list, it->second) + ")");
+                  "duplicate name " + toml_string(items[i].name) + " (also " + index_path(list, it->second) + ")");
   }
 }
 
@@ -794,9 +711,9 @@ void check_reference(const std::string& name, const std::vector<Spec>& items, co
   std::vector<std::string> known;
   for (const auto& item : items) {
     if (item.name == name) return;
-    if (!item.name.empty()) known.push_back(quote(item.name));
+    if (!item.name.empty()) known.push_back(toml_string(item.name));
   }
-  ctx.problem(path, "no " + what + " named " + quote(name) +
+  ctx.problem(path, "no " + what + " named " + toml_string(name) +
                         (known.empty() ? " (none defined)" : " (known: " + join(known, ", ") + ")"));
 }
 
@@ -808,8 +725,8 @@ void check_material_model(const BodySpec& b, const std::vector<MaterialSpec>& ma
   for (const auto& m : materials) {
     if (m.name != b.material) continue;
     if (!m.model.empty() && m.model != needed)  // empty: an unknown model, reported already
-      ctx.problem(path, "material " + quote(m.name) + " has model = " + quote(m.model) + ", but a " +
-                            kind_name(b.kind) + " body needs model = " + quote(needed));
+      ctx.problem(path, "material " + toml_string(m.name) + " has model = " + toml_string(m.model) + ", but a " +
+                            kind_name(b.kind) + " body needs model = " + toml_string(needed));
     return;  // a duplicate name is reported already
   }
 }
@@ -817,7 +734,7 @@ void check_material_model(const BodySpec& b, const std::vector<MaterialSpec>& ma
 // The first body of `kind` (its path and name, for messages), or "" if there is none.
 std::string first_body(const std::vector<BodySpec>& bodies, ParticleKind kind) {
   for (std::size_t i = 0; i < bodies.size(); ++i)
-    if (bodies[i].kind == kind) return index_path("bodies", i) + " " + quote(bodies[i].name);
+    if (bodies[i].kind == kind) return index_path("bodies", i) + " " + toml_string(bodies[i].name);
   return "";
 }
 
@@ -845,7 +762,7 @@ void check_stages(CaseSpec& c, Context& ctx) {
     const bool structural = type == "displacement";
     if (structural ? c.stages.structure : c.stages.fluid) continue;
     ctx.problem(index_path("probes", i) + ".type",
-                quote(type) + " probes need stages." + (structural ? "structure" : "fluid") + " = true");
+                toml_string(type) + " probes need stages." + (structural ? "structure" : "fluid") + " = true");
   }
 }
 
@@ -855,7 +772,7 @@ void check_stages(CaseSpec& c, Context& ctx) {
 bool read_motion_rows(const std::string& file, const std::string& path, Context& ctx, MotionSpec& m) {
   std::ifstream in(file);
   if (!in) {
-    ctx.problem(path, "cannot open " + quote(file));
+    ctx.problem(path, "cannot open " + toml_string(file));
     return false;
   }
   std::string line;
@@ -881,21 +798,21 @@ bool read_motion_rows(const std::string& file, const std::string& path, Context&
     first = false;
     if (header) continue;
     if (!numeric || numbers.size() != 2) {
-      ctx.problem(path, quote(file) + " line " + std::to_string(line_number) +
-                            ": expected two numbers, time and value (got " + quote(trim(line)) + ")");
+      ctx.problem(path, toml_string(file) + " line " + std::to_string(line_number) +
+                            ": expected two numbers, time and value (got " + toml_string(trim(line)) + ")");
       return false;
     }
     if (!m.times.empty() && !(numbers[0] > m.times.back())) {
-      ctx.problem(path, quote(file) + " line " + std::to_string(line_number) + ": the rows must be sorted by time, " +
-                            "strictly increasing (t = " + show(numbers[0]) + " follows t = " + show(m.times.back()) +
-                            ")");
+      ctx.problem(path, toml_string(file) + " line " + std::to_string(line_number) +
+                            ": the rows must be sorted by time, " + "strictly increasing (t = " +
+                            shortest_number(numbers[0]) + " follows t = " + shortest_number(m.times.back()) + ")");
       return false;
     }
     m.times.push_back(numbers[0]);
     m.values.push_back(numbers[1]);
   }
   if (m.times.size() >= 2) return true;
-  ctx.problem(path, quote(file) + ": needs at least two rows (got " + std::to_string(m.times.size()) + ")");
+  ctx.problem(path, toml_string(file) + ": needs at least two rows (got " + std::to_string(m.times.size()) + ")");
   return false;
 }
 
@@ -916,8 +833,8 @@ void read_motion_files(CaseSpec& c, Context& ctx) {
     m.file = std::filesystem::absolute(file).lexically_normal().string();
     if (!read_motion_rows(m.file, path + ".file", ctx, m)) continue;
     if (m.times.back() < c.end_time)
-      ctx.problem(path + ".file", quote(m.file) + " ends at t = " + show(m.times.back()) +
-                                      " s, before end_time = " + show(c.end_time) + " s");
+      ctx.problem(path + ".file", toml_string(m.file) + " ends at t = " + shortest_number(m.times.back()) +
+                                      " s, before end_time = " + shortest_number(c.end_time) + " s");
   }
 }
 
@@ -1019,7 +936,7 @@ std::optional<std::string> apply_override(toml::value& doc, const std::string& t
       node = &node->as_table().try_emplace(segment, toml::table{}).first->second;
     } else if (node->is_array()) {
       node = array_element(node->as_array(), segment);
-      if (!node) return walked + ": no element with index or name " + quote(segment);
+      if (!node) return walked + ": no element with index or name " + toml_string(segment);
     } else {
       return walked + ": is " + describe(*node) + ", not a table or an array";
     }
@@ -1032,15 +949,6 @@ std::optional<std::string> apply_override(toml::value& doc, const std::string& t
 // ---------------------------------------------------------------------------------------------
 // The resolved configuration, as TOML
 // ---------------------------------------------------------------------------------------------
-
-// A TOML float: the shortest round-trip text, with ".0" where it would read as an integer.
-std::string toml_float(double x) {
-  std::string text = show(x);
-  if (text.find_first_of(".e") == std::string::npos) text += ".0";
-  return text;
-}
-
-std::string toml_bool(bool b) { return b ? "true" : "false"; }
 
 std::string toml_vector(const Vec3& v, int dimension) {
   std::vector<std::string> items;
@@ -1056,35 +964,34 @@ std::string inline_table(const std::vector<std::pair<std::string, std::string>>&
 
 std::string toml_shape(const Shape& s, int dimension) {
   if (is_ball(s.type))
-    return inline_table({{"type", quote(s.type)},
+    return inline_table({{"type", toml_string(s.type)},
                          {"center", toml_vector(s.center, dimension)},
                          {"radius", toml_float(s.radius)}});
-  return inline_table({{"type", quote(s.type)},
-                       {"min", toml_vector(s.min, dimension)},
-                       {"max", toml_vector(s.max, dimension)}});
+  return inline_table(
+      {{"type", toml_string(s.type)}, {"min", toml_vector(s.min, dimension)}, {"max", toml_vector(s.max, dimension)}});
 }
 
 std::string toml_velocity(const InitialVelocitySpec& v, int dimension) {
   if (v.type == "uniform")
-    return inline_table({{"type", quote(v.type)}, {"value", toml_vector(v.value, dimension)}});
+    return inline_table({{"type", toml_string(v.type)}, {"value", toml_vector(v.value, dimension)}});
   if (v.type == "cantilever_mode")
-    return inline_table({{"type", quote(v.type)},
+    return inline_table({{"type", toml_string(v.type)},
                          {"kL", toml_float(v.kL)},
                          {"tip_velocity", toml_float(v.tip_velocity)},
                          {"length", toml_float(v.length)},
                          {"root", toml_vector(v.root, dimension)},
                          {"axis", toml_vector(v.axis, dimension)},
                          {"direction", toml_vector(v.direction, dimension)}});
-  return inline_table({{"type", quote(v.type)}});
+  return inline_table({{"type", toml_string(v.type)}});
 }
 
 std::string toml_motion(const MotionSpec& m, int dimension) {
-  std::vector<std::pair<std::string, std::string>> entries{{"type", quote(m.type)}};
+  std::vector<std::pair<std::string, std::string>> entries{{"type", toml_string(m.type)}};
   if (m.type == "constant_velocity") entries.emplace_back("velocity", toml_vector(m.velocity, dimension));
   if (m.type == "translation") entries.emplace_back("direction", toml_vector(m.direction, dimension));
   if (m.type == "rotation") entries.emplace_back("pivot", toml_vector(m.pivot, dimension));
   if (m.type == "translation" || m.type == "rotation") {
-    entries.emplace_back("profile", quote(m.profile));
+    entries.emplace_back("profile", toml_string(m.profile));
     if (m.profile == "polynomial") {
       std::vector<std::string> items;
       for (double c : m.coefficients) items.push_back(toml_float(c));
@@ -1095,7 +1002,7 @@ std::string toml_motion(const MotionSpec& m, int dimension) {
       entries.emplace_back("period", toml_float(m.period));
       entries.emplace_back("phase", toml_float(m.phase));
     } else {
-      entries.emplace_back("file", quote(m.file));
+      entries.emplace_back("file", toml_string(m.file));
     }
   }
   return inline_table(entries);
@@ -1103,8 +1010,8 @@ std::string toml_motion(const MotionSpec& m, int dimension) {
 
 void write_material(std::ostream& out, const MaterialSpec& m, int dimension) {
   out << "\n[[materials]]\n"
-      << "name = " << quote(m.name) << "\n"
-      << "model = " << quote(m.model) << "\n"
+      << "name = " << toml_string(m.name) << "\n"
+      << "model = " << toml_string(m.model) << "\n"
       << "density = " << toml_float(m.density) << "\n";
   if (m.model == "newtonian") {
     out << "viscosity = " << toml_float(m.viscosity) << "\n";
@@ -1112,16 +1019,16 @@ void write_material(std::ostream& out, const MaterialSpec& m, int dimension) {
   }
   out << "youngs_modulus = " << toml_float(m.youngs_modulus) << "\n"
       << "poisson_ratio = " << toml_float(m.poisson_ratio) << "\n";
-  if (dimension == 2) out << "plane = " << quote(m.plane) << "\n";
+  if (dimension == 2) out << "plane = " << toml_string(m.plane) << "\n";
 }
 
 void write_body(std::ostream& out, const BodySpec& b, int dimension) {
   std::vector<std::string> clamps;
   for (const auto& clamp : b.clamps) clamps.push_back(toml_shape(clamp, dimension));
   out << "\n[[bodies]]\n"
-      << "name = " << quote(b.name) << "\n"
-      << "kind = " << quote(kind_name(b.kind)) << "\n";
-  if (!b.material.empty()) out << "material = " << quote(b.material) << "\n";
+      << "name = " << toml_string(b.name) << "\n"
+      << "kind = " << toml_string(kind_name(b.kind)) << "\n";
+  if (!b.material.empty()) out << "material = " << toml_string(b.material) << "\n";
   out << "shape = " << toml_shape(b.shape, dimension) << "\n";
   if (b.kind == ParticleKind::structure) out << "clamps = [" << join(clamps, ", ") << "]\n"
                                               << (b.dx > 0 ? "dx = " + toml_float(b.dx) : "refinement = " + toml_float(b.refinement))
@@ -1134,8 +1041,8 @@ void write_body(std::ostream& out, const BodySpec& b, int dimension) {
 
 void write_load(std::ostream& out, const LoadSpec& l, int dimension) {
   out << "\n[[loads]]\n"
-      << "type = " << quote(l.type) << "\n"
-      << "body = " << quote(l.body) << "\n";
+      << "type = " << toml_string(l.type) << "\n"
+      << "body = " << toml_string(l.body) << "\n";
   if (l.type == "edge" || l.type == "traction") out << "region = " << toml_shape(l.region, dimension) << "\n";
   if (l.type == "point") out << "point = " << toml_vector(l.region.center, dimension) << "\n";
   if (l.type == "body")
@@ -1149,44 +1056,9 @@ void write_load(std::ostream& out, const LoadSpec& l, int dimension) {
 
 void write_probe(std::ostream& out, const ProbeSpec& p, int dimension) {
   out << "\n[[probes]]\n"
-      << "name = " << quote(p.name) << "\n"
-      << "type = " << quote(p.type) << "\n"
+      << "name = " << toml_string(p.name) << "\n"
+      << "type = " << toml_string(p.type) << "\n"
       << "point = " << toml_vector(p.point, dimension) << "\n";
-}
-
-void write_fluid(std::ostream& out, const FluidSpec& f) {
-  out << "\n[fluid]\n"
-      << "model = " << quote(f.model) << "\n"
-      << "courant = " << toml_float(f.courant) << "\n"
-      << "viscous_number = " << toml_float(f.viscous_number) << "\n"
-      << "reference_velocity = " << toml_float(f.reference_velocity) << "\n"
-      << "max_dt = " << toml_float(f.max_dt) << "\n"
-      << "turbulence = " << quote(f.turbulence) << "\n"
-      << "smagorinsky = " << toml_float(f.smagorinsky) << "\n"
-      << "free_surface = " << toml_bool(f.free_surface) << "\n"
-      << "surface_threshold = " << toml_float(f.surface_threshold) << "\n"
-      << "surface_full = " << toml_float(f.surface_full) << "\n"
-      << "surface_pressure = " << quote(f.surface_pressure) << "\n"
-      << "escape = " << quote(f.escape) << "\n"
-      << "\n[fluid.shifting]\n"
-      << "type = " << quote(f.shifting.type) << "\n"
-      << "coefficient = " << toml_float(f.shifting.coefficient) << "\n"
-      << "max_fraction = " << toml_float(f.shifting.max_fraction) << "\n"
-      << "taylor_correction = " << toml_bool(f.shifting.taylor_correction) << "\n"
-      << "\n[fluid.ppe]\n"
-      << "backend = " << quote(f.ppe.backend) << "\n"
-      << "method = " << quote(f.ppe.method) << "\n"
-      << "preconditioner = " << quote(f.ppe.preconditioner) << "\n"
-      << "tolerance = " << toml_float(f.ppe.tolerance) << "\n"
-      << "max_iterations = " << f.ppe.max_iterations << "\n"
-      << "fallback = " << quote(f.ppe.fallback) << "\n"
-      << "preconditioner_reuse = " << f.ppe.preconditioner_reuse << "\n"
-      << "\n[fluid.wcsph]\n"
-      << "time_stepping = " << quote(f.wcsph.time_stepping) << "\n"
-      << "advection_courant = " << toml_float(f.wcsph.advection_courant) << "\n"
-      << "acoustic_courant = " << toml_float(f.wcsph.acoustic_courant) << "\n"
-      << "sound_speed = " << toml_float(f.wcsph.sound_speed) << "\n"
-      << "riemann_limiter = " << toml_float(f.wcsph.riemann_limiter) << "\n";
 }
 
 // Only the periodic axes; no table when there are none.
@@ -1202,43 +1074,13 @@ void write_periodic(std::ostream& out, const PeriodicSpec& p, int dimension) {
 std::string resolved_toml(const CaseSpec& c) {
   const int d = c.dimension;
   std::ostringstream out;
-  out << "# The case as run: overrides applied, every default written out.\n"
-      << "name = " << quote(c.name) << "\n"
-      << "dimension = " << d << "\n"
-      << "dx = " << toml_float(c.dx) << "\n"
-      << "end_time = " << toml_float(c.end_time) << "\n"
-      << "gravity = " << toml_vector(c.gravity, d) << "\n"
-      << "\n[kernel]\n"
-      << "type = " << quote(c.kernel.type) << "\n"
-      << "h_factor = " << toml_float(c.kernel.h_factor) << "\n"
-      << "correction = " << toml_bool(c.kernel.correction) << "\n"
-      << "\n[structure]\n"
-      << "integrator = " << quote(c.structure.integrator) << "\n"
-      << "gradient = " << quote(c.structure.gradient) << "\n"
-      << "quadrature = " << quote(c.structure.quadrature) << "\n"
-      << "courant = " << toml_float(c.structure.courant) << "\n"
-      << "damping = " << toml_float(c.structure.damping) << "\n"
-      << "hourglass = " << toml_float(c.structure.hourglass) << "\n";
-  write_fluid(out, c.fluid);
-  out << "\n[coupling]\n"
-      << "substeps = " << c.coupling.substeps << "\n"
-      << "fsi_shifting = " << toml_bool(c.coupling.fsi_shifting) << "\n"
-      << "wall_contact = " << toml_bool(c.coupling.wall_contact) << "\n"
-      << "implicit_added_mass = " << toml_bool(c.coupling.implicit_added_mass) << "\n"
-      << "interaction_force = " << quote(c.coupling.interaction_force) << "\n"
-      << "substep_interaction = " << quote(c.coupling.substep_interaction) << "\n"
-      << "tolerance = " << toml_float(c.coupling.tolerance) << "\n"
-      << "max_iterations = " << c.coupling.max_iterations << "\n"
-      << "first_ppe_tolerance = " << toml_float(c.coupling.first_ppe_tolerance) << "\n"
-      << "reuse_steps = " << c.coupling.reuse_steps << "\n";
+  out << "# The case as run: overrides applied, every default written out.\n";
+  for (const std::string& section : case_sections()) {
+    if (!section.empty()) out << "\n[" << section << "]\n";
+    for (const CaseKey& key : case_keys())
+      if (key.section == section) out << key.name << " = " << toml_value(key.get(c), d) << "\n";
+  }
   write_periodic(out, c.periodic, d);
-  out << "\n[output]\n"
-      << "interval = " << toml_float(c.output.interval) << "\n"
-      << "snapshot_interval = " << toml_float(c.output.snapshot_interval) << "\n"
-      << "snapshots = " << toml_bool(c.output.snapshots) << "\n"
-      << "\n[stages]\n"
-      << "structure = " << toml_bool(c.stages.structure) << "\n"
-      << "fluid = " << toml_bool(c.stages.fluid) << "\n";
   for (const auto& m : c.materials) write_material(out, m, d);
   for (const auto& b : c.bodies) write_body(out, b, d);
   for (const auto& l : c.loads) write_load(out, l, d);

@@ -25,14 +25,14 @@ void from_components(const Eigen::VectorXd& x, const StateVector<Vec<D>>& direct
 }  // namespace
 
 template <int D>
-StructureCoupling<D>::StructureCoupling(TlsphSetup<D> setup, const CouplingSpec& coupling, Real courant,
-                                        Vec<D> gravity, Device device)
+StructureCoupling<D>::StructureCoupling(TlsphSetup<D> setup, const CouplingSpec& coupling, Real courant, Vec<D> gravity,
+                                        Device device)
     : exec_{device},
       solver_(std::move(setup), exec_),
       spec_(coupling),
       stable_dt_(solver_.stable_dt(courant)),
       g_norm_(std::sqrt(norm2(gravity))),
-      interpolate_(coupling.substep_interaction == "interpolated"),
+      interpolate_(coupling.substep_interaction == SubstepInteraction::interpolated),
       quasi_newton_(coupling.reuse_steps) {
   const Index n = solver_.size();
   const StateAllocator<Vec<D>> vectors(device == Device::cuda);

@@ -27,13 +27,6 @@ SolverSettings solver_settings(const PpeSolverSpec& s, const std::string& backen
 
 }  // namespace
 
-ShiftingType shifting_type_from_name(const std::string& name) {
-  if (name == "none") return ShiftingType::none;
-  if (name == "xu") return ShiftingType::xu;
-  if (name == "ops") return ShiftingType::ops;
-  throw std::invalid_argument("unknown shifting type '" + name + "' (none | xu | ops)");
-}
-
 template <int D>
 IsphSolver<D>::IsphSolver(FluidSetup<D> s)
     : particles_(s),
@@ -45,10 +38,10 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
       gravity_(s.gravity),
       settings_(s.settings),
       kernel_correction_(s.kernel_correction),
-      shifting_(shifting_type_from_name(s.settings.shifting.type)),
-      extrapolate_surface_(s.settings.surface_pressure == "extrapolated"),
+      shifting_(s.settings.shifting.type),
+      extrapolate_surface_(s.settings.surface_pressure == SurfacePressure::extrapolated),
       fsi_shifting_(s.fsi_shifting),
-      pairwise_force_(s.interaction_force == "pairwise") {
+      pairwise_force_(s.interaction_force == InteractionForce::pairwise) {
   ParticleSet<D>& ps = particles_;
   for (auto* v : {&x_old_, &u_star_, &u_new_, &grad_p_, &surface_normal_, &shift_, &wall_moment_}) *v = ps.array(Vec<D>::zero());
   for (auto* v : {&L_, &Bhat_, &L_structure_}) *v = ps.array(Mat<D>::identity());
@@ -117,7 +110,7 @@ FluidStepReport IsphSolver<D>::step(Real dt, PhaseTimer& timer) {
 template <int D>
 void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
   const Index n = particles_.size();
-  const bool sps = settings_.turbulence == "sps";
+  const bool sps = settings_.turbulence == Turbulence::sps;
 
   if (particles_.has_moving_walls()) timer.time("wall_motion", [&] { particles_.prescribe_walls(dt); });
 

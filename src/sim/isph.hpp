@@ -106,6 +106,4 @@ class IsphSolver final : public FluidModel<D> {
   std::string solver_name_;
 };
 
-ShiftingType shifting_type_from_name(const std::string& name);
-
 }  // namespace isph

@@ -68,7 +68,8 @@ struct FluidSetup {
   FluidSpec settings;
   Device device = Device::cpu;        // cuda: the state lives in managed memory and every particle loop runs on the GPU
   bool fsi_shifting = true;           // the FSI shifting layer (Eqs. 27-30)
-  std::string interaction_force = "pairwise";  // pairwise | gradient (Eq. 48 literally; structure/interaction.hpp)
+  InteractionForce interaction_force =
+      InteractionForce::pairwise;  // pairwise | gradient (Eq. 48 literally; structure/interaction.hpp)
 
   const SmoothingKernel<D>& fluid_kernel() const { return kernels.kernel[fluid_level]; }
 };

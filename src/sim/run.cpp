@@ -555,7 +555,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   }
   if (scene.has_structure) add_displacement_columns(scene, columns);
   RunFrame frame(spec, opt, columns, D);
-  frame.set_books_advice(spec.fluid.model == "wcsph"
+  frame.set_books_advice(spec.fluid.model == FluidMethod::wcsph
                              ? "try a smaller fluid.courant (or structure.courant with a structure)"
                              : "try a smaller fluid.courant, or shifting (fluid.shifting.type), or, with a "
                                "structure, a smaller structure.courant or more coupling.max_iterations");
@@ -565,7 +565,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   std::unique_ptr<StructureCoupling<D>> coupling;
   timer.time("setup", [&] {
     scene.fluid.device = opt.device;
-    if (spec.fluid.model == "wcsph") {
+    if (spec.fluid.model == FluidMethod::wcsph) {
       auto model = std::make_unique<WcsphSolver<D>>(std::move(scene.fluid));
       wcsph = model.get();
       model_ptr = std::move(model);
@@ -699,7 +699,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
       frame.diverge(buf);
     } else if (Index out = particles.first_outside(scene.domain_lo, scene.domain_hi); out >= 0) {
       // Thrown out over the walls: removed (fluid.escape = "remove"); through a wall or the floor: diverged.
-      if (spec.fluid.escape == "remove") {
+      if (spec.fluid.escape == EscapePolicy::remove) {
         const Index removed = particles.remove_fluid_outside(scene.domain_lo, scene.domain_hi, scene.up, scene.rim);
         if (removed > 0 && removed_total == 0) first_removal = t;
         removed_total += removed;
@@ -747,7 +747,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   if (coupling) perf.set("coupling", coupling->summary());
   if (wcsph) {
     JsonObject w;
-    w.set("time_stepping", spec.fluid.wcsph.time_stepping)
+    w.set("time_stepping", name_of(spec.fluid.wcsph.time_stepping))
         .set("sound_speed", wcsph->sound_speed())
         .set("advection_steps", wcsph->advection_steps())
         .set("acoustic_steps", wcsph->acoustic_steps())

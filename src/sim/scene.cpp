@@ -104,8 +104,7 @@ struct Resolutions {
   KernelTable<D> kernels(const KernelSpec& k) const {
     KernelTable<D> table;
     table.levels = levels();
-    for (int l = 0; l < levels(); ++l)
-      table.kernel[l] = SmoothingKernel<D>::make(kernel_type_from_name(k.type), k.h_factor * spacing[l]);
+    for (int l = 0; l < levels(); ++l) table.kernel[l] = SmoothingKernel<D>::make(k.type, k.h_factor * spacing[l]);
     return table;
   }
 };
@@ -660,9 +659,9 @@ Scene<D> build_scene(const CaseSpec& spec) {
   }
   if (!problems.empty()) throw CaseError(problems);
 
-  s.gradient = spec.kernel.correction ? structure_gradient_from_name(spec.structure.gradient) : StructureGradient::uncorrected;
-  s.quadrature = structure_quadrature_from_name(spec.structure.quadrature);
-  s.integrator = structure_integrator_from_name(spec.structure.integrator);
+  s.gradient = spec.kernel.correction ? spec.structure.gradient : StructureGradient::uncorrected;
+  s.quadrature = spec.structure.quadrature;
+  s.integrator = spec.structure.integrator;
   s.gravity = to_vec<D>(spec.gravity);
   s.damping = spec.structure.damping;
   s.hourglass = spec.structure.hourglass;

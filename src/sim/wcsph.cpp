@@ -44,7 +44,7 @@ WcsphSolver<D>::WcsphSolver(FluidSetup<D> s)
       advection_courant_(s.settings.wcsph.advection_courant),
       acoustic_courant_(s.settings.wcsph.acoustic_courant),
       limiter_(s.settings.wcsph.riemann_limiter),
-      dual_(s.settings.wcsph.time_stepping == "dual_criteria"),
+      dual_(s.settings.wcsph.time_stepping == WcsphTimeStepping::dual_criteria),
       kernel_correction_(s.kernel_correction) {
   ParticleSet<D>& ps = particles_;
   const Index n = ps.size();

@@ -72,8 +72,6 @@ TEST(Kernels, DerivativeMatchesFiniteDifferenceAndVanishesAtSupport) {
   }
 }
 
-TEST(Kernels, UnknownNameIsAnError) { EXPECT_THROW(kernel_type_from_name("gaussian"), std::invalid_argument); }
-
 // The corrected gradient sum_b (f_b - f_a) L_a g_ab reproduces a linear field exactly, on an
 // irregular particle set and at its edges (where the plain SPH gradient is badly wrong).
 template <int D>

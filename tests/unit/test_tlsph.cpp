@@ -394,10 +394,6 @@ TEST(WallContact, ThrownBlockBouncesOffTheFloor) {
   }
 }
 
-TEST(TimeIntegration, UnknownIntegratorIsAnError) {
-  EXPECT_THROW(structure_integrator_from_name("euler"), std::invalid_argument);
-}
-
 // The same solver in 3D: F is exact for an affine map and a rigid rotation is stress-free.
 TEST(Tlsph3D, AffineMapsAndRigidRotation) {
   TlsphSetup<3> s;

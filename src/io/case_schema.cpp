@@ -1,0 +1,525 @@
+#include "io/case_schema.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cstdio>
+#include <stdexcept>
+#include <type_traits>
+
+#include "poisson/linear_solver.hpp"
+
+namespace isph {
+
+namespace {
+
+KeyBounds positive() { return {0, KeyBounds{}.hi, true, true}; }
+KeyBounds non_negative() { return {0}; }
+KeyBounds open_unit() { return {0, 1, true, true}; }
+
+// Every option any PPE backend offers (poisson/linear_solver.hpp), in catalogue order.
+template <class Options>
+std::vector<std::string> any_backend(Options options) {
+  std::vector<std::string> all;
+  for (const std::string& b : solver_backends())
+    for (const std::string& o : options(b))
+      if (std::find(all.begin(), all.end(), o) == all.end()) all.push_back(o);
+  return all;
+}
+
+// A key being declared: its type follows from the member's; the rest is set by chained calls.
+class Declaration {
+ public:
+  explicit Declaration(CaseKey& key) : key_(key) {}
+  Declaration& unit(std::string u) { return key_.unit = std::move(u), *this; }
+  Declaration& bounds(KeyBounds b) { return key_.bounds = b, *this; }
+  Declaration& required() { return key_.required = true, *this; }
+  Declaration& default_note(std::string note) { return key_.default_note = std::move(note), *this; }
+  // A string key's allowed values (an enum brings its names).
+  Declaration& choices(std::vector<std::string> c) {
+    key_.type = KeyType::choice;
+    return key_.choices = std::move(c), *this;
+  }
+  Declaration& doc(std::string d) { return key_.doc = std::move(d), *this; }
+
+ private:
+  CaseKey& key_;
+};
+
+template <class Ref>
+Declaration add(std::vector<CaseKey>& keys, std::string section, std::string name, Ref ref) {
+  using T = std::remove_cvref_t<decltype(ref(std::declval<CaseSpec&>()))>;
+  CaseKey& k = keys.emplace_back();
+  k.section = std::move(section);
+  k.name = std::move(name);
+  if constexpr (std::is_enum_v<T>) {
+    k.type = KeyType::choice;
+    for (const auto& entry : enum_names(T{})) k.choices.emplace_back(entry.name);
+    k.get = [ref](const CaseSpec& c) -> KeyValue { return name_of(ref(c)); };
+    k.set = [ref](CaseSpec& c, const KeyValue& v) { ref(c) = *enum_from_name<T>(std::get<std::string>(v)); };
+  } else {
+    if constexpr (std::is_same_v<T, bool>) {
+      k.type = KeyType::boolean;
+    } else if constexpr (std::is_same_v<T, int>) {
+      k.type = KeyType::integer;
+    } else if constexpr (std::is_same_v<T, double>) {
+      k.type = KeyType::number;
+    } else if constexpr (std::is_same_v<T, std::array<double, 3>>) {
+      k.type = KeyType::vector;
+    } else {
+      static_assert(std::is_same_v<T, std::string>);
+      k.type = KeyType::text;
+    }
+    using Stored = std::conditional_t<std::is_same_v<T, int>, std::int64_t, T>;
+    k.get = [ref](const CaseSpec& c) -> KeyValue { return static_cast<Stored>(ref(c)); };
+    k.set = [ref](CaseSpec& c, const KeyValue& v) { ref(c) = static_cast<T>(std::get<Stored>(v)); };
+  }
+  return Declaration(k);
+}
+
+std::vector<CaseKey> declare_keys() {
+  std::vector<CaseKey> keys;
+  // top level
+  add(
+      keys, "", "name", [](auto& c) -> auto& { return c.name; })
+      .default_note("file stem")
+      .doc("case name; not empty");
+  add(
+      keys, "", "dimension", [](auto& c) -> auto& { return c.dimension; })
+      .bounds(KeyBounds{2, 3})
+      .doc("sets the length of every vector and the shape types");
+  add(
+      keys, "", "dx", [](auto& c) -> auto& { return c.dx; })
+      .unit("m")
+      .bounds(positive())
+      .required()
+      .doc("particle spacing of the fluid and the walls (and of structures unless they set their own)");
+  add(
+      keys, "", "end_time", [](auto& c) -> auto& { return c.end_time; })
+      .unit("s")
+      .bounds(positive())
+      .required()
+      .doc("simulated time");
+  add(
+      keys, "", "gravity", [](auto& c) -> auto& { return c.gravity; })
+      .unit("m/s²")
+      .default_note("zeros")
+      .doc("gravitational acceleration");
+  // [kernel]
+  add(
+      keys, "kernel", "type", [](auto& c) -> auto& { return c.kernel.type; })
+      .doc("the smoothing kernel (kernels/smoothing_kernel.hpp)");
+  add(
+      keys, "kernel", "h_factor", [](auto& c) -> auto& { return c.kernel.h_factor; })
+      .bounds(positive())
+      .doc("smoothing length h = h_factor · dx");
+  add(
+      keys, "kernel", "correction", [](auto& c) -> auto& { return c.kernel.correction; })
+      .doc("kernel gradient correction");
+  // [structure]
+  add(
+      keys, "structure", "integrator", [](auto& c) -> auto& { return c.structure.integrator; })
+      .doc("RK4 (the seed) or velocity-Verlet, for the structure substeps");
+  add(
+      keys, "structure", "gradient", [](auto& c) -> auto& { return c.structure.gradient; })
+      .doc(
+          R"d(`"linear"`: pair gradients L_a g_ab, exact for linear fields (seed Eq. 35-36); `"quadratic"`: exact for quadratic fields also at free surfaces and corners, with a symmetric hourglass error that does not stiffen smooth bending. Quadratic makes the bending stiffness nearly independent of `hourglass` (docs/VALIDATION.md section 21). Ignored when `kernel.correction = false`)d");
+  add(
+      keys, "structure", "quadrature", [](auto& c) -> auto& { return c.structure.quadrature; })
+      .doc(
+          R"d(the strain energy of a particle: `"point"`: evaluated at the particle (SPH's one-point rule; across N particle rows it underestimates the bending stiffness by 1/N²); `"cell"`: integrated over the particle's cell with the strain's linear variation across it, exact for St. Venant-Kirchhoff when the strain is linear in the cell; two more neighbour passes per evaluation (docs/VALIDATION.md section 22))d");
+  add(
+      keys, "structure", "courant", [](auto& c) -> auto& { return c.structure.courant; })
+      .bounds(positive())
+      .doc("dt = courant · h / c_p (c_p: P-wave speed)");
+  add(
+      keys, "structure", "damping", [](auto& c) -> auto& { return c.structure.damping; })
+      .unit("1/s")
+      .bounds(non_negative())
+      .doc("mass-proportional damping rate");
+  add(
+      keys, "structure", "hourglass", [](auto& c) -> auto& { return c.structure.hourglass; })
+      .bounds(non_negative())
+      .doc("Ganzenmüller (2015) hourglass control coefficient α (0 = off); see docs/VALIDATION.md for its effect");
+  // [fluid]
+  add(
+      keys, "fluid", "model", [](auto& c) -> auto& { return c.fluid.model; })
+      .doc(R"d(`"isph"`; `"wcsph"`: the weakly compressible comparator (sim/wcsph.hpp))d");
+  add(
+      keys, "fluid", "courant", [](auto& c) -> auto& { return c.fluid.courant; })
+      .bounds(positive())
+      .doc("dt = courant · h / U (Eq. 49)");
+  add(
+      keys, "fluid", "viscous_number", [](auto& c) -> auto& { return c.fluid.viscous_number; })
+      .bounds(positive())
+      .doc("dt <= viscous_number · h² / ν");
+  add(
+      keys, "fluid", "reference_velocity", [](auto& c) -> auto& { return c.fluid.reference_velocity; })
+      .unit("m/s")
+      .bounds(non_negative())
+      .doc("floor on U in Eq. 49. 0: √(2 |g| H), H the fluid's vertical extent, or the fastest wall speed if larger");
+  add(
+      keys, "fluid", "max_dt", [](auto& c) -> auto& { return c.fluid.max_dt; })
+      .unit("s")
+      .bounds(non_negative())
+      .doc("cap on dt (0: no cap)");
+  add(
+      keys, "fluid", "turbulence", [](auto& c) -> auto& { return c.fluid.turbulence; })
+      .doc(R"d(`"none"`, `"sps"` (sub-particle-scale Smagorinsky model, Eq. 10))d");
+  add(
+      keys, "fluid", "smagorinsky", [](auto& c) -> auto& { return c.fluid.smagorinsky; })
+      .bounds(positive())
+      .doc("c_s of Eq. 10");
+  add(
+      keys, "fluid", "free_surface", [](auto& c) -> auto& { return c.fluid.free_surface; })
+      .doc("detect the free surface (Dirichlet p = 0 there, Eq. 17)");
+  add(
+      keys, "fluid", "surface_threshold", [](auto& c) -> auto& { return c.fluid.surface_threshold; })
+      .bounds(non_negative())
+      .doc("particles with ∇·r below it are surface particles. 0: 1.4 in 2D, 2.4 in 3D");
+  add(
+      keys, "fluid", "surface_full", [](auto& c) -> auto& { return c.fluid.surface_full; })
+      .bounds(non_negative())
+      .doc(
+          "∇·r above it: Skillen α = 1. 0: 1.6 in 2D, 2.6 in 3D. Must be > `surface_threshold` (judged with the "
+          "defaults in place of zeros)");
+  add(
+      keys, "fluid", "surface_pressure", [](auto& c) -> auto& { return c.fluid.surface_pressure; })
+      .doc(
+          R"d(condition at free-surface particles: `"zero"`: p = 0 (the seed's Dirichlet condition); `"extrapolated"`: p = 0 half a spacing beyond the particle, along its outward normal (p_a + (dx/2) n·∇p_a = 0), which removes the ρg·dx/2 offset that `"zero"` gives still water)d");
+  add(
+      keys, "fluid", "escape", [](auto& c) -> auto& { return c.fluid.escape; })
+      .doc(
+          R"d(a fluid particle that leaves the escape box (the box of all particles grown by 2h, and upwards, against gravity, by its own height; moving walls' paths widen it): `"remove"`: when it left above the set-up's highest particle less one kernel support 2h (thrown out over the walls, or over their top corner; so a particle that leaks through the top 2h of a wall is removed too) it is taken out of the run, which goes on (the progress output says so; summary.json gives `particles.fluid_removed` and `particles.fluid_first_removed_at`; its energy leaves energy.csv with it); `"stop"`: the run stops as diverged, naming the particle. A particle that left below that height (through a wall or the floor: a numerical failure) stops the run either way)d");
+  // [fluid.shifting]
+  add(
+      keys, "fluid.shifting", "type", [](auto& c) -> auto& { return c.fluid.shifting.type; })
+      .doc(
+          R"d(`"none"`; `"xu"`: Xu et al. (2009) / Lind et al. (2012) shifting (seed 001 Eqs. 21-23), |δr| capped at max_fraction · h; `"ops"`: `"xu"` plus the optimized particle shifting of Khayyer et al. (2017) at the free surface (tangential only, Eqs. 24-26))d");
+  add(
+      keys, "fluid.shifting", "coefficient", [](auto& c) -> auto& { return c.fluid.shifting.coefficient; })
+      .bounds(KeyBounds{0, 1, true, false})
+      .doc("C of Eq. 21 (0.01-0.1 is the usual range)");
+  add(
+      keys, "fluid.shifting", "max_fraction", [](auto& c) -> auto& { return c.fluid.shifting.max_fraction; })
+      .bounds(positive())
+      .doc("cap on |δr| as a fraction of h (Lind et al. 2012)");
+  add(
+      keys, "fluid.shifting", "taylor_correction", [](auto& c) -> auto& { return c.fluid.shifting.taylor_correction; })
+      .doc("correct the shifted particles' velocity and pressure by a Taylor expansion (Eqs. 20, 31-32)");
+  // [fluid.ppe]
+  add(
+      keys, "fluid.ppe", "backend", [](auto& c) -> auto& { return c.fluid.ppe.backend; })
+      .default_note(R"d(`"hypre"` in builds with hypre, `"eigen"` otherwise)d")
+      .choices(solver_backends())
+      .doc(
+          R"d(`"eigen"`, `"hypre"` (only in builds with hypre; the run reports it otherwise), `"native"` (the project's BiCGSTAB on the host), `"cuda"` (the same BiCGSTAB on the GPU with cuSPARSE; needs a build with CUDA and a visible device, the run reports it otherwise))d");
+  add(
+      keys, "fluid.ppe", "method", [](auto& c) -> auto& { return c.fluid.ppe.method; })
+      .choices(any_backend(solver_methods))
+      .doc("gmres: eigen and hypre only");
+  add(
+      keys, "fluid.ppe", "preconditioner", [](auto& c) -> auto& { return c.fluid.ppe.preconditioner; })
+      .default_note(R"d(`"ilu"` for eigen, `"boomeramg"` for hypre, `"jacobi"` for native and cuda)d")
+      .choices(any_backend(solver_preconditioners))
+      .doc(
+          R"d(eigen: `"jacobi"`, `"ilu"`, `"none"`; hypre: `"boomeramg"`, `"jacobi"`, `"none"`; native, cuda: `"jacobi"`, `"polynomial"` (three damped Jacobi sweeps), `"amg"` (smoothed-aggregation AMG, one V-cycle; docs/SOLVERS.md), `"none"`; another combination is an error)d");
+  add(
+      keys, "fluid.ppe", "tolerance", [](auto& c) -> auto& { return c.fluid.ppe.tolerance; })
+      .bounds(open_unit())
+      .doc("relative residual ||b − Ax|| / ||b||");
+  add(
+      keys, "fluid.ppe", "max_iterations", [](auto& c) -> auto& { return c.fluid.ppe.max_iterations; })
+      .bounds(KeyBounds{1})
+      .doc("Krylov iterations per solve");
+  add(
+      keys, "fluid.ppe", "fallback", [](auto& c) -> auto& { return c.fluid.ppe.fallback; })
+      .default_note(
+          R"d(`"eigen"` when `backend` is not given and the build has hypre, `"none"` otherwise (a case that names a backend names its fallback too))d")
+      .choices(std::vector<std::string>{"none", "eigen", "hypre"})
+      .doc(
+          R"d(`"none"`, `"eigen"`, `"hypre"`: a second backend tried after a failed solve; must differ from `backend`)d");
+  add(
+      keys, "fluid.ppe", "preconditioner_reuse", [](auto& c) -> auto& { return c.fluid.ppe.preconditioner_reuse; })
+      .bounds(KeyBounds{0, 1000})
+      .doc(
+          "hypre: keep a BoomerAMG hierarchy for up to this many further fluid steps, the Krylov method taking each "
+          "new matrix (the interface iterations of one step always share it). A kept hierarchy is dropped when the "
+          "particles are reordered, when a solve needs more than twice the iterations of the one after its set-up "
+          "(plus two), or when a solve fails (the step is then solved again with a fresh one). The elastic gate and "
+          "the hydrostatic plate use 10 with a tolerance of 1e-5: on the gate the PPE solve took 18.2 s instead of "
+          "25.6 s (1e-8, a new hierarchy every step; 1 thread), the tip's RMSEs within 0.05 mm (docs/SOLVERS.md). "
+          "Other backends set up every step");
+  // [fluid.wcsph]
+  add(
+      keys, "fluid.wcsph", "time_stepping", [](auto& c) -> auto& { return c.fluid.wcsph.time_stepping; })
+      .doc(
+          R"d(`"dual_criteria"`: advection steps (Eq. 9) that rebuild the neighbour list, reinitialise the density (Eqs. 11-12) and compute the viscous force, each split into acoustic velocity-Verlet steps (Eqs. 10, 13-15) that reuse the list; `"single_criterion"`: every step an acoustic step that rebuilds the list, no reinitialisation)d");
+  add(
+      keys, "fluid.wcsph", "advection_courant", [](auto& c) -> auto& { return c.fluid.wcsph.advection_courant; })
+      .bounds(positive())
+      .doc(
+          "CFL_ad of Eq. 9: dt_ad = CFL_ad min(h/U, h²/ν), U the fastest fluid particle, at least "
+          "`fluid.reference_velocity` (resolved as for ISPH)");
+  add(
+      keys, "fluid.wcsph", "acoustic_courant", [](auto& c) -> auto& { return c.fluid.wcsph.acoustic_courant; })
+      .bounds(positive())
+      .default_note("`0.6` (dual_criteria), `0.25` (single_criterion)")
+      .doc("CFL_ac of Eq. 10: dt_ac <= CFL_ac h/(c + U)");
+  add(
+      keys, "fluid.wcsph", "sound_speed", [](auto& c) -> auto& { return c.fluid.wcsph.sound_speed; })
+      .unit("m/s")
+      .bounds(non_negative())
+      .doc("c of Eq. 2. 0: 10 U_max with U_max = 2√(gH) (seed 002 §3.1), i.e. 10√2 times the reference velocity");
+  add(
+      keys, "fluid.wcsph", "riemann_limiter", [](auto& c) -> auto& { return c.fluid.wcsph.riemann_limiter; })
+      .bounds(non_negative())
+      .doc(
+          "η of the low-dissipation limiter β = min(η max(U_L − U_R, 0)/c, 1) on the Riemann pressure's dissipation; "
+          "0: β = 1 (the plain acoustic Riemann solver; on the dam break at a/20 it slows the surge front badly, RMSE "
+          "0.98 against 0.43)");
+  // [coupling]
+  add(
+      keys, "coupling", "substeps", [](auto& c) -> auto& { return c.coupling.substeps; })
+      .bounds(KeyBounds{0, 1000000})
+      .doc(
+          "structure (TLSPH) steps per fluid step; `0`: ceil(dt_fluid / dt_structure) each fluid step, with "
+          "dt_structure from `structure.courant`; a count fixes the ratio (the seed uses 100), for comparison");
+  add(
+      keys, "coupling", "fsi_shifting", [](auto& c) -> auto& { return c.coupling.fsi_shifting; })
+      .doc(
+          "the FSI shifting layer (seed Eqs. 27-30) for fluid particles beside a structure: it keeps only a small part "
+          "(about 2C²R_n²) of their shift along the structure's normal. It throttled the flow past the elastic gate "
+          "and the Walhorn obstacle (peaks 16 % and 5 % below the lowest reference with it; 2 % below, and inside the "
+          "references' band, without), whose case files turn it off (docs/VALIDATION.md §14, §16)");
+  add(
+      keys, "coupling", "interaction_force", [](auto& c) -> auto& { return c.coupling.interaction_force; })
+      .doc(
+          R"d(the pressure force on structure particles: `"pairwise"`: symmetric SPH pressure force from the fluid neighbours (equal and opposite pair by pair); `"gradient"`: Eq. 48 literally, the corrected pressure gradient over all neighbours (docs/VALIDATION.md compares them))d");
+  add(
+      keys, "coupling", "substep_interaction", [](auto& c) -> auto& { return c.coupling.substep_interaction; })
+      .doc(
+          R"d(the interaction acceleration α(f→s) over the substeps: `"held"`: the value from the pressure of the step's end, in every substep; `"interpolated"`: linear in time from the last step's converged value to it (docs/VALIDATION.md §12 measures the difference; two thirds of the load in a step's chord displacement are then the previous step's, and a structure mode whose added mass exceeds three times its own mass flips sign every fluid step and grows: it diverges on the bundled hydrostatic plate))d");
+  add(
+      keys, "coupling", "tolerance", [](auto& c) -> auto& { return c.coupling.tolerance; })
+      .bounds(open_unit())
+      .doc("interface iterations stop when the change of the structure's acceleration is below tol times its size");
+  add(
+      keys, "coupling", "max_iterations", [](auto& c) -> auto& { return c.coupling.max_iterations; })
+      .bounds(KeyBounds{1})
+      .doc(
+          "interface iterations per fluid step; `1` is the staggered (explicit) scheme, unstable when the fluid's "
+          "added mass exceeds the structure's and `implicit_added_mass` is off. The shipped FSI cases use `2`: most "
+          "steps then end at the cap (`unconverged_steps` counts them), and summary.json's "
+          "`performance.coupling.mean_interface_residual` and `max_interface_residual` give |H(a) − a| / |a_s| at each "
+          "step's end; their tip and deflection histories stay within 0.13 mm and 1.5 % of converged iterations "
+          "(docs/VALIDATION.md §12)");
+  add(
+      keys, "coupling", "first_ppe_tolerance", [](auto& c) -> auto& { return c.coupling.first_ppe_tolerance; })
+      .bounds(KeyBounds{0, 1, false, true})
+      .doc(
+          "`0`: the PPE's own `fluid.ppe.tolerance`; otherwise the PPE tolerance of each fluid step's first interface "
+          "iteration, when `max_iterations` > 1. That iterate only feeds the quasi-Newton update, so it may be solved "
+          "loosely; it then never ends the iterations, and the later iterations solve to the PPE's tolerance "
+          "(docs/PERFORMANCE.md measures it on the shipped cases)");
+  add(
+      keys, "coupling", "implicit_added_mass", [](auto& c) -> auto& { return c.coupling.implicit_added_mass; })
+      .doc(
+          "the structure's inertia in its PPE rows: a structure row's acceleration includes β f_s(p)/ρ_s, the response "
+          "to the pressure's own force (β = 1/2 under a held α, 1/6 under the interpolated one), so the pressure "
+          "equation carries the structure's mass beside the water's and the staggered scheme holds under heavy water "
+          "(poisson/ppe_assembly.hpp; docs/VALIDATION.md §12). `false`: the rows take the structure's acceleration as "
+          "given (the seed's scheme)");
+  add(
+      keys, "coupling", "reuse_steps", [](auto& c) -> auto& { return c.coupling.reuse_steps; })
+      .bounds(KeyBounds{0, 100})
+      .doc("earlier fluid steps whose iterations the quasi-Newton method (IQN-ILS) reuses");
+  add(
+      keys, "coupling", "wall_contact", [](auto& c) -> auto& { return c.coupling.wall_contact; })
+      .doc(
+          "structure-wall contact: a structure particle (a disc of its spacing) that overlaps a wall particle is "
+          "pushed out by a penalty of the structure's own P-wave modulus (`structure/tlsph_functors.hpp`); without it "
+          "a structure laid on a wall passes through it. The summary reports `steps_with_wall_contact` and "
+          "`max_wall_overlap` (docs/VALIDATION.md §12)");
+  // [output]
+  add(
+      keys, "output", "interval", [](auto& c) -> auto& { return c.output.interval; })
+      .unit("s")
+      .bounds(non_negative())
+      .doc("probes and energies every interval (0: every 100 steps)");
+  add(
+      keys, "output", "snapshot_interval", [](auto& c) -> auto& { return c.output.snapshot_interval; })
+      .unit("s")
+      .bounds(non_negative())
+      .doc("snapshot every interval (0: first and last only)");
+  add(
+      keys, "output", "snapshots", [](auto& c) -> auto& { return c.output.snapshots; })
+      .doc("write HDF5 snapshots");
+  // [stages]
+  add(
+      keys, "stages", "structure", [](auto& c) -> auto& { return c.stages.structure; })
+      .doc(R"d(run the structure solver (TLSPH); needs at least one `"structure"` body)d");
+  add(
+      keys, "stages", "fluid", [](auto& c) -> auto& { return c.stages.fluid; })
+      .doc(R"d(run the fluid solver (ISPH); needs at least one `"fluid"` body)d");
+  return keys;
+}
+
+// A markdown table cell: '|' escaped.
+std::string cell(const std::string& text) {
+  std::string out;
+  for (const char ch : text) {
+    if (ch == '|') out += '\\';
+    out += ch;
+  }
+  return out;
+}
+
+// A number as the docs show it: 1e-8, not 1e-08.
+std::string docs_value(const std::string& toml) {
+  std::string text = toml;
+  const auto e = text.find('e');
+  if (e == std::string::npos) return text;
+  std::size_t digits = e + 1;
+  if (digits < text.size() && (text[digits] == '-' || text[digits] == '+')) ++digits;
+  while (digits + 1 < text.size() && text[digits] == '0') text.erase(digits, 1);
+  return text;
+}
+
+const char* type_name(KeyType type) {
+  switch (type) {
+    case KeyType::boolean:
+      return "boolean";
+    case KeyType::integer:
+      return "integer";
+    case KeyType::number:
+      return "float";
+    case KeyType::vector:
+      return "vector";
+    default:
+      return "string";
+  }
+}
+
+}  // namespace
+
+std::string KeyBounds::text(bool integer) const {
+  const bool has_lo = lo > -std::numeric_limits<double>::infinity();
+  const bool has_hi = hi < std::numeric_limits<double>::infinity();
+  const auto whole = [](double x) { return std::to_string(static_cast<long long>(x)); };
+  if (integer && has_lo && has_hi) return "in " + whole(lo) + ".." + whole(hi);
+  if (integer && has_lo && lo == 1 && !lo_open) return "> 0";
+  const std::string low = std::string(lo_open ? "> " : ">= ") + shortest_number(lo);
+  const std::string high = std::string(hi_open ? "< " : "<= ") + shortest_number(hi);
+  if (has_lo && has_hi) return low + " and " + high;
+  return has_lo ? low : has_hi ? high : "";
+}
+
+const std::vector<CaseKey>& case_keys() {
+  static const std::vector<CaseKey> keys = declare_keys();
+  return keys;
+}
+
+const std::vector<std::string>& case_sections() {
+  static const std::vector<std::string> sections = [] {
+    std::vector<std::string> s;
+    for (const CaseKey& k : case_keys())
+      if (std::find(s.begin(), s.end(), k.section) == s.end()) s.push_back(k.section);
+    return s;
+  }();
+  return sections;
+}
+
+std::string shortest_number(double x) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x);
+  return std::string(buffer, result.ptr);
+}
+
+std::string toml_float(double x) {
+  std::string text = shortest_number(x);
+  if (text.find_first_of(".e") == std::string::npos) text += ".0";
+  return text;
+}
+
+std::string toml_string(const std::string& s) {
+  std::string text = "\"";
+  for (const char ch : s) {
+    const auto code = static_cast<unsigned char>(ch);
+    if (ch == '"' || ch == '\\') {
+      text += '\\';
+      text += ch;
+    } else if (code < 0x20 || code == 0x7f) {
+      char escape[8];
+      std::snprintf(escape, sizeof escape, "\\u%04x", code);
+      text += escape;
+    } else {
+      text += ch;
+    }
+  }
+  return text + "\"";
+}
+
+std::string toml_value(const KeyValue& value, int dimension) {
+  struct Text {
+    int dimension;
+    std::string operator()(bool b) const { return b ? "true" : "false"; }
+    std::string operator()(std::int64_t i) const { return std::to_string(i); }
+    std::string operator()(double x) const { return toml_float(x); }
+    std::string operator()(const std::string& s) const { return toml_string(s); }
+    std::string operator()(const std::array<double, 3>& v) const {
+      std::string text = "[";
+      for (int k = 0; k < dimension; ++k) text += (k ? ", " : "") + toml_float(v[k]);
+      return text + "]";
+    }
+  };
+  return std::visit(Text{dimension}, value);
+}
+
+std::string key_reference(const std::string& section) {
+  const CaseSpec defaults;
+  std::string table = "| Key | Type | Default | Allowed / meaning |\n|---|---|---|---|\n";
+  for (const CaseKey& k : case_keys()) {
+    if (k.section != section) continue;
+    const std::string type = std::string(type_name(k.type)) + (k.unit.empty() ? "" : " [" + k.unit + "]");
+    std::string shown_default = "required";
+    if (!k.required) shown_default = std::string(1, '`').append(docs_value(toml_value(k.get(defaults), 2))).append("`");
+    std::string allowed = k.bounds.text(k.type == KeyType::integer);
+    // The choices, unless the documentation names every one of them.
+    const bool named = std::all_of(k.choices.begin(), k.choices.end(), [&](const std::string& choice) {
+      return k.doc.find("`\"" + choice + "\"`") != std::string::npos;
+    });
+    if (!named)
+      for (std::size_t i = 0; i < k.choices.size(); ++i) allowed += (i ? ", `" : "`") + toml_string(k.choices[i]) + "`";
+    const std::string meaning = allowed.empty() ? k.doc : k.doc.empty() ? allowed : allowed + "; " + k.doc;
+    table += "| `" + k.name + "` | " + type + " | " + (k.default_note.empty() ? shown_default : k.default_note) +
+             " | " + cell(meaning) + " |\n";
+  }
+  return table;
+}
+
+std::string with_key_reference(const std::string& document) {
+  static const std::string open = "<!-- keys ", close = "<!-- end keys -->";
+  std::string out;
+  std::vector<std::string> seen;
+  std::size_t at = 0;
+  for (std::size_t start; (start = document.find(open, at)) != std::string::npos;) {
+    const std::size_t name_end = document.find(" -->", start);
+    const std::size_t end = document.find(close, start);
+    if (name_end == std::string::npos || end == std::string::npos)
+      throw std::runtime_error("an unclosed \"" + open + "\" block");
+    const std::string marked = document.substr(start + open.size(), name_end - start - open.size());
+    const std::string section = marked == "top" ? "" : marked;
+    if (std::find(case_sections().begin(), case_sections().end(), section) == case_sections().end())
+      throw std::runtime_error("a key block of an unknown section \"" + marked + "\"");
+    seen.push_back(section);
+    out += document.substr(at, name_end + 4 - at) + "\n" + key_reference(section) + close;
+    at = end + close.size();
+  }
+  out += document.substr(at);
+  for (const std::string& section : case_sections())
+    if (std::find(seen.begin(), seen.end(), section) == seen.end())
+      throw std::runtime_error("no key block for section \"" + (section.empty() ? "top" : section) + "\"");
+  return out;
+}
+
+}  // namespace isph

@@ -1,0 +1,216 @@
+// The declared settings keys (src/io/case_schema.hpp): every key read, checked, written back and
+// documented from its one declaration.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "io/case_loader.hpp"
+#include "io/case_schema.hpp"
+
+namespace fs = std::filesystem;
+using namespace isph;
+
+namespace {
+
+const std::string kSource = ISPH_SOURCE_DIR;
+
+// The parts of two cases that differ, for a failure's message.
+std::string differences(const CaseSpec& a, const CaseSpec& b) {
+  std::string parts;
+  const auto part = [&parts](bool same, const char* name) {
+    if (!same) parts += std::string(" ") + name;
+  };
+  part(a.name == b.name, "name");
+  part(a.dimension == b.dimension && a.dx == b.dx && a.end_time == b.end_time && a.gravity == b.gravity, "top-level");
+  part(a.kernel == b.kernel, "kernel");
+  part(a.structure == b.structure, "structure");
+  part(a.fluid == b.fluid, "fluid");
+  part(a.coupling == b.coupling, "coupling");
+  part(a.periodic == b.periodic, "periodic");
+  part(a.output == b.output, "output");
+  part(a.stages == b.stages, "stages");
+  part(a.materials == b.materials, "materials");
+  part(a.bodies == b.bodies, "bodies");
+  part(a.loads == b.loads, "loads");
+  part(a.probes == b.probes, "probes");
+  return parts;
+}
+
+class CaseSchema : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() / ("isph_case_schema_" + std::to_string(::getpid()) + "_" + test->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string write(const std::string& name, const std::string& text) {
+    const auto path = (dir_ / name).string();
+    std::ofstream(path) << text;
+    return path;
+  }
+
+  // Loads the resolved case of `spec` back; both compared without their file names and TOML text.
+  void expect_round_trip(const CaseSpec& spec, const std::string& what) {
+    CaseSpec again = load_case(write("resolved.toml", spec.resolved_toml));
+    CaseSpec first = spec;
+    for (CaseSpec* c : {&first, &again}) {
+      c->source_path.clear();
+      c->resolved_toml.clear();
+    }
+    EXPECT_TRUE(first == again) << what << ": the resolved case loads back to another case, differing in"
+                                << differences(first, again) << ":\n"
+                                << spec.resolved_toml;
+  }
+
+  fs::path dir_;
+};
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Values to try for a key instead of its value `v` in the base case: valid for the key alone,
+// though a case's cross-key rules may refuse some.
+std::vector<KeyValue> candidates(const CaseKey& key, const KeyValue& v) {
+  std::vector<KeyValue> out;
+  switch (key.type) {
+    case KeyType::boolean:
+      out.emplace_back(!std::get<bool>(v));
+      break;
+    case KeyType::integer: {
+      const auto i = std::get<std::int64_t>(v);
+      for (const std::int64_t c : {i + 1, i - 1})
+        if (key.bounds.admits(static_cast<double>(c))) out.emplace_back(c);
+      break;
+    }
+    case KeyType::number: {
+      const double x = std::get<double>(v);
+      for (const double c : {2 * x, x / 2, 0.5, 2.0, 10.0})
+        if (c != x && key.bounds.admits(c)) out.emplace_back(c);
+      break;
+    }
+    case KeyType::vector:
+      out.emplace_back(std::array<double, 3>{1.0, -5.0, 0.0});
+      break;
+    case KeyType::text:
+      out.emplace_back(std::get<std::string>(v) + "_renamed");
+      break;
+    case KeyType::choice:
+      for (const std::string& c : key.choices)
+        if (c != std::get<std::string>(v)) out.emplace_back(c);
+      break;
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_F(CaseSchema, DocsAreCurrent) {
+  const std::string path = kSource + "/docs/CASES.md";
+  const std::string document = read_text(path);
+  EXPECT_TRUE(with_key_reference(document) == document)
+      << path << " is stale: regenerate its key tables with `build/isph keys --update docs/CASES.md`";
+}
+
+TEST_F(CaseSchema, EveryKeyIsDeclaredOnceAndDocumented) {
+  std::set<std::string> paths;
+  for (const CaseKey& key : case_keys()) {
+    EXPECT_TRUE(paths.insert(key.path()).second) << key.path() << " is declared twice";
+    EXPECT_FALSE(key.doc.empty()) << key.path() << " has no documentation";
+    if (key.type == KeyType::choice) {
+      EXPECT_GE(key.choices.size(), 2u) << key.path();
+    }
+  }
+  EXPECT_EQ(paths.size(), 57u);  // the settings keys on 2026-12-04
+}
+
+// Every key, set alone to each value that differs from the elastic gate's, is read into the case,
+// written to the resolved case, and loads back to the same case, compared field by field. The stage
+// switches and the dimension must agree with the bodies, so no single change of theirs loads; the
+// bundled cases and the 3D case below cover their other values.
+TEST_F(CaseSchema, EveryKeyRoundTripsFieldByField) {
+  const std::string gate = kSource + "/cases/elastic_gate.toml";
+  const CaseSpec base = load_case(gate);
+  for (const CaseKey& key : case_keys()) {
+    int loaded = 0;
+    for (const KeyValue& value : candidates(key, key.get(base))) {
+      const std::string text = key.path() + "=" + toml_value(value, base.dimension);
+      CaseSpec changed;
+      try {
+        changed = load_case(gate, {text});
+      } catch (const CaseError&) {
+        continue;  // refused by a rule across keys
+      }
+      ++loaded;
+      EXPECT_TRUE(key.get(changed) == value) << "--set " << text << " was not read into the case";
+      expect_round_trip(changed, "--set " + text);
+    }
+    const bool fixed_by_bodies = key.section == "stages" || key.path() == "dimension";
+    if (fixed_by_bodies) {
+      EXPECT_EQ(loaded, 0) << key.path();
+    } else {
+      EXPECT_GE(loaded, 1) << "no other value of " << key.path() << " loads";
+    }
+  }
+}
+
+TEST_F(CaseSchema, BundledCasesRoundTripFieldByField) {
+  int cases = 0;
+  for (const auto& entry : fs::directory_iterator(kSource + "/cases")) {
+    if (entry.path().extension() != ".toml") continue;
+    ++cases;
+    expect_round_trip(load_case(entry.path().string()), entry.path().filename().string());
+  }
+  EXPECT_EQ(cases, 13);
+}
+
+TEST_F(CaseSchema, ThreeDimensionalCaseRoundTripsFieldByField) {
+  const std::string path = write("block.toml", R"(dimension = 3
+dx = 0.01
+end_time = 0.1
+gravity = [0, 0, -9.81]
+[[materials]]
+name = "rubber"
+density = 1100
+youngs_modulus = 1e7
+poisson_ratio = 0.4
+[[bodies]]
+name = "block"
+kind = "structure"
+material = "rubber"
+shape = { type = "box", min = [0, 0, 0], max = [0.05, 0.05, 0.1] }
+clamps = [{ type = "box", min = [0, 0, -0.01], max = [0.05, 0.05, 0.01] }]
+)");
+  const CaseSpec spec = load_case(path);
+  EXPECT_EQ(spec.dimension, 3);
+  EXPECT_NE(spec.resolved_toml.find("gravity = [0.0, 0.0, -9.81]"), std::string::npos) << spec.resolved_toml;
+  expect_round_trip(spec, path);
+}
+
+// A key's bounds are its message and its documentation.
+TEST(CaseKeyBounds, TextNamesTheInterval) {
+  EXPECT_EQ((KeyBounds{0, 1, true, true}).text(false), "> 0 and < 1");
+  EXPECT_EQ((KeyBounds{0, 1, false, true}).text(false), ">= 0 and < 1");
+  EXPECT_EQ((KeyBounds{0, 100}).text(true), "in 0..100");
+  EXPECT_EQ((KeyBounds{1}).text(true), "> 0");
+  EXPECT_EQ((KeyBounds{0}).text(false), ">= 0");
+  EXPECT_TRUE((KeyBounds{0, 1, false, true}).admits(0));
+  EXPECT_FALSE((KeyBounds{0, 1, false, true}).admits(1));
+}
+
+TEST(EnumNames, EveryNameReadsBackAsItsValue) {
+  for (const auto& entry : enum_names(ShiftingType{})) EXPECT_EQ(enum_from_name<ShiftingType>(entry.name), entry.value);
+  for (const auto& entry : enum_names(SubstepInteraction{}))
+    EXPECT_EQ(name_of(*enum_from_name<SubstepInteraction>(entry.name)), entry.name);
+  EXPECT_FALSE(enum_from_name<KernelType>("gaussian").has_value());
+  EXPECT_FALSE(enum_from_name<StructureIntegrator>("euler").has_value());
+  EXPECT_EQ(name_of(StructureGradient::uncorrected), "?");  // not a case's choice: it follows kernel.correction
+}
