@@ -7,14 +7,14 @@
 namespace isph {
 
 MotionProfile::MotionProfile(const MotionSpec& m) {
-  if (m.type == "constant_velocity") {  // s = t along the velocity
+  if (m.type == MotionType::constant_velocity) {  // s = t along the velocity
     coefficients_ = {0.0, 1.0};
     return;
   }
-  if (m.profile == "polynomial") {
+  if (m.profile == MotionLaw::polynomial) {
     coefficients_ = m.coefficients;
     until_ = m.until;
-  } else if (m.profile == "sine") {
+  } else if (m.profile == MotionLaw::sine) {
     kind_ = Kind::sine;
     amplitude_ = m.amplitude;
     omega_ = 2 * M_PI / m.period;
@@ -91,13 +91,13 @@ Real MotionProfile::rate(Real t) const {
 
 template <int D>
 RigidMotion<D>::RigidMotion(const MotionSpec& m) : profile_(m), s0_(profile_.value(0)) {
-  if (m.type == "rotation") {
+  if (m.type == MotionType::rotation) {
     if (D != 2) throw std::invalid_argument("a rotation is a 2D motion");
     rotates_ = true;
     pivot_ = to_vec<D>(m.pivot);
-  } else if (m.type == "constant_velocity") {
+  } else if (m.type == MotionType::constant_velocity) {
     direction_ = to_vec<D>(m.velocity);
-  } else if (m.type == "translation") {
+  } else if (m.type == MotionType::translation) {
     direction_ = to_vec<D>(m.direction);
   }
 }

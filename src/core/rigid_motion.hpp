@@ -4,13 +4,28 @@
 // is declared here rather than in io/case.hpp, so that the structure solver takes motions without
 // depending on the case description.
 #include <array>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "core/enum_names.hpp"
 #include "core/types.hpp"
 
 namespace isph {
+
+enum class MotionType { none, constant_velocity, translation, rotation };
+constexpr EnumName<MotionType> kMotionTypeNames[] = {{MotionType::none, "none"},
+                                                     {MotionType::constant_velocity, "constant_velocity"},
+                                                     {MotionType::translation, "translation"},
+                                                     {MotionType::rotation, "rotation"}};
+constexpr std::span<const EnumName<MotionType>> enum_names(MotionType) { return kMotionTypeNames; }
+
+// The law s(t) of a translation or a rotation.
+enum class MotionLaw { polynomial, sine, csv };
+constexpr EnumName<MotionLaw> kMotionLawNames[] = {
+    {MotionLaw::polynomial, "polynomial"}, {MotionLaw::sine, "sine"}, {MotionLaw::csv, "csv"}};
+constexpr std::span<const EnumName<MotionLaw>> enum_names(MotionLaw) { return kMotionLawNames; }
 
 // Prescribed rigid motion of a wall body, or of the clamped particles of a structure body (their
 // clamp moves with it: the baffle of a rolling tank). X is a particle's position as the case file draws
@@ -26,11 +41,11 @@ namespace isph {
 //                interpolated by a natural cubic spline (so that the velocity and acceleration are
 //                continuous); before the first row the first value holds.
 struct MotionSpec {
-  std::string type = "none";                 // none | constant_velocity | translation | rotation
+  MotionType type = MotionType::none;
   std::array<double, 3> velocity{};          // constant_velocity [m/s]
   std::array<double, 3> direction{0, 1, 0};  // translation (unit)
   std::array<double, 3> pivot{};             // rotation
-  std::string profile = "polynomial";        // translation, rotation: polynomial | sine | csv
+  MotionLaw profile = MotionLaw::polynomial;  // translation, rotation
   std::vector<double> coefficients;          // polynomial [m or deg, per s^k]
   double until = 0.0;                        // polynomial [s]
   double amplitude = 0.0;                    // sine [m or deg]

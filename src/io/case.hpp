@@ -52,6 +52,34 @@ constexpr std::span<const EnumName<SubstepInteraction>> enum_names(SubstepIntera
   return kSubstepInteractionNames;
 }
 
+// The types a list element of a case chooses by name.
+enum class PlaneCondition { strain, stress };
+constexpr EnumName<PlaneCondition> kPlaneConditionNames[] = {{PlaneCondition::strain, "strain"},
+                                                             {PlaneCondition::stress, "stress"}};
+constexpr std::span<const EnumName<PlaneCondition>> enum_names(PlaneCondition) { return kPlaneConditionNames; }
+
+enum class InitialVelocityType { none, uniform, cantilever_mode };
+constexpr EnumName<InitialVelocityType> kInitialVelocityTypeNames[] = {
+    {InitialVelocityType::none, "none"},
+    {InitialVelocityType::uniform, "uniform"},
+    {InitialVelocityType::cantilever_mode, "cantilever_mode"}};
+constexpr std::span<const EnumName<InitialVelocityType>> enum_names(InitialVelocityType) {
+  return kInitialVelocityTypeNames;
+}
+
+enum class LoadType { edge, traction, point, body };
+constexpr EnumName<LoadType> kLoadTypeNames[] = {
+    {LoadType::edge, "edge"}, {LoadType::traction, "traction"}, {LoadType::point, "point"}, {LoadType::body, "body"}};
+constexpr std::span<const EnumName<LoadType>> enum_names(LoadType) { return kLoadTypeNames; }
+
+enum class ProbeType { displacement, pressure, velocity, front, max_speed };
+constexpr EnumName<ProbeType> kProbeTypeNames[] = {{ProbeType::displacement, "displacement"},
+                                                   {ProbeType::pressure, "pressure"},
+                                                   {ProbeType::velocity, "velocity"},
+                                                   {ProbeType::front, "front"},
+                                                   {ProbeType::max_speed, "max_speed"}};
+constexpr std::span<const EnumName<ProbeType>> enum_names(ProbeType) { return kProbeTypeNames; }
+
 // A geometric primitive. In 2D: "rectangle" (min, max) or "circle" (center, radius).
 // In 3D: "box" (min, max) or "sphere" (center, radius). Unused components stay zero.
 struct Shape {
@@ -74,7 +102,7 @@ struct MaterialSpec {
   double density = 0.0;                           // [kg/m^3], > 0
   double youngs_modulus = 0.0;                    // [Pa], > 0 (or derived from bulk_modulus)
   double poisson_ratio = 0.0;                     // in (-1, 0.5)
-  std::string plane = "strain";                   // 2D only: "strain" | "stress"
+  PlaneCondition plane = PlaneCondition::strain;  // 2D only
   double viscosity = 0.0;                         // newtonian: kinematic viscosity [m^2/s], > 0
   bool operator==(const MaterialSpec&) const = default;
 };
@@ -86,7 +114,7 @@ struct MaterialSpec {
 //    `root` along `axis`, f(s) = (cos kL + cosh kL)(cosh ks - cos ks) + (sin kL - sinh kL)(sinh ks - sin ks),
 //    k = kL / length.
 struct InitialVelocitySpec {
-  std::string type = "none";                 // none | uniform | cantilever_mode
+  InitialVelocityType type = InitialVelocityType::none;
   std::array<double, 3> value{};             // uniform
   double kL = 1.875;                         // cantilever_mode
   double tip_velocity = 0.0;                 // [m/s]
@@ -124,7 +152,7 @@ struct BodySpec {
 // area on each particle inside `region`, times its cell's face dx^(D-1). "body": an acceleration on
 // every particle of the body. Loads ramp linearly from 0 to full over ramp_time (0 = at once).
 struct LoadSpec {
-  std::string type;                          // edge | traction | point | body
+  LoadType type = LoadType::edge;
   std::string body;
   Shape region;                              // edge, traction: region; point: region.center is used
   std::array<double, 3> force{};             // edge/point: total force [N per unit depth in 2D]
@@ -145,7 +173,7 @@ struct LoadSpec {
 //  "max_speed":    the speed of the fastest fluid particle (field u); no point.
 struct ProbeSpec {
   std::string name;
-  std::string type = "displacement";
+  ProbeType type = ProbeType::displacement;
   std::array<double, 3> point{};
   bool operator==(const ProbeSpec&) const = default;
 };

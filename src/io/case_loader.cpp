@@ -260,6 +260,22 @@ bool read_choice(Table& t, const std::string& key, std::string& out, const Choic
   return true;
 }
 
+// The same for an enumeration's names (core/enum_names.hpp).
+template <class E>
+bool read_enum(Table& t, const std::string& key, E& out, Need need = Need::optional) {
+  std::string value;
+  if (!t.read(key, value, need)) return need == Need::optional && !t.has(key);
+  const std::optional<E> chosen = enum_from_name<E>(value);
+  if (!chosen) {
+    Choices allowed;
+    for (const auto& entry : enum_names(E{})) allowed.emplace_back(entry.name);
+    t.problem(key, one_of(allowed) + " (got " + toml_string(value) + ")");
+    return false;
+  }
+  out = *chosen;
+  return true;
+}
+
 // A key that is not allowed here (given the values read before it): reported, and not read.
 void reject(Table& t, const std::string& key, const std::string& reason) {
   if (!t.has(key)) return;
@@ -511,7 +527,7 @@ void read_fields(Table& t, MaterialSpec& m) {
   read_poisson_ratio(t, m.poisson_ratio);
   read_stiffness(t, m);
   if (t.ctx().dimension == 2) {
-    read_choice(t, "plane", m.plane, {"strain", "stress"});
+    read_enum(t, "plane", m.plane);
   } else if (t.has("plane")) {
     t.ignore("plane");
     t.problem("plane", "only used in 2D (dimension = 3)");
@@ -519,13 +535,13 @@ void read_fields(Table& t, MaterialSpec& m) {
 }
 
 void read_fields(Table& t, InitialVelocitySpec& v) {
-  if (!read_choice(t, "type", v.type, {"none", "uniform", "cantilever_mode"})) {
+  if (!read_enum(t, "type", v.type)) {
     t.ignore_rest();
     return;
   }
-  if (v.type == "uniform") {
+  if (v.type == InitialVelocityType::uniform) {
     t.read("value", v.value, Need::required);
-  } else if (v.type == "cantilever_mode") {
+  } else if (v.type == InitialVelocityType::cantilever_mode) {
     read_positive(t, "kL", v.kL);
     t.read("tip_velocity", v.tip_velocity, Need::required);
     read_positive(t, "length", v.length, Need::required);
@@ -536,16 +552,16 @@ void read_fields(Table& t, InitialVelocitySpec& v) {
 }
 
 void read_fields(Table& t, MotionSpec& m) {
-  if (!read_choice(t, "type", m.type, {"none", "constant_velocity", "translation", "rotation"}, Need::required)) {
+  if (!read_enum(t, "type", m.type, Need::required)) {
     t.ignore_rest();
     return;
   }
-  if (m.type == "none") return;
-  if (m.type == "constant_velocity") {
+  if (m.type == MotionType::none) return;
+  if (m.type == MotionType::constant_velocity) {
     t.read("velocity", m.velocity, Need::required);
     return;
   }
-  if (m.type == "translation") {
+  if (m.type == MotionType::translation) {
     read_direction(t, "direction", m.direction);
   } else if (t.ctx().dimension != 2) {
     t.problem("type", "\"rotation\" is only for dimension = 2 (dimension = " + std::to_string(t.ctx().dimension) + ")");
@@ -554,15 +570,15 @@ void read_fields(Table& t, MotionSpec& m) {
   } else {
     t.read("pivot", m.pivot, Need::required);
   }
-  if (!read_choice(t, "profile", m.profile, {"polynomial", "sine", "csv"}, Need::required)) {
+  if (!read_enum(t, "profile", m.profile, Need::required)) {
     t.ignore_rest();
     return;
   }
-  if (m.profile == "polynomial") {
+  if (m.profile == MotionLaw::polynomial) {
     if (t.read("coefficients", m.coefficients, Need::required) && m.coefficients.empty())
       t.problem("coefficients", "must not be empty");
     read_non_negative(t, "until", m.until);
-  } else if (m.profile == "sine") {
+  } else if (m.profile == MotionLaw::sine) {
     t.read("amplitude", m.amplitude, Need::required);
     read_positive(t, "period", m.period, Need::required);
     t.read("phase", m.phase);
@@ -630,7 +646,7 @@ void read_fields(Table& t, BodySpec& b) {
   if (wall) {
     reject(t, "initial_velocity", "not for kind = \"wall\" (use motion)");
   } else if (t.read("initial_velocity", b.initial_velocity) && b.kind == ParticleKind::fluid &&
-             b.initial_velocity.type == "cantilever_mode") {
+             b.initial_velocity.type == InitialVelocityType::cantilever_mode) {
     t.problem("initial_velocity",
               "type \"cantilever_mode\" is only for kind = \"structure\"; "
               "a fluid takes \"none\" or \"uniform\"");
@@ -642,18 +658,18 @@ void read_fields(Table& t, BodySpec& b) {
 }
 
 void read_fields(Table& t, LoadSpec& l) {
-  if (!read_choice(t, "type", l.type, {"edge", "traction", "point", "body"}, Need::required)) {
+  if (!read_enum(t, "type", l.type, Need::required)) {
     t.ignore_rest();
     return;
   }
   t.read("body", l.body, Need::required);
-  if (l.type == "edge") {
+  if (l.type == LoadType::edge) {
     t.read("region", l.region, Need::required);
     t.read("force", l.force, Need::required);
-  } else if (l.type == "traction") {
+  } else if (l.type == LoadType::traction) {
     t.read("region", l.region, Need::required);
     t.read("traction", l.traction, Need::required);
-  } else if (l.type == "point") {
+  } else if (l.type == LoadType::point) {
     // A point load is given by `point`; it is kept as the centre of a "point" region.
     l.region.type = "point";
     t.read("point", l.region.center, Need::required);
@@ -674,8 +690,8 @@ bool is_identifier(const std::string& s) {
 void read_fields(Table& t, ProbeSpec& p) {
   if (t.read("name", p.name, Need::required) && !is_identifier(p.name))
     t.problem("name", "must match [A-Za-z0-9_]+ (got " + toml_string(p.name) + ")");
-  read_choice(t, "type", p.type, {"displacement", "pressure", "velocity", "front", "max_speed"});
-  t.read("point", p.point, p.type == "max_speed" ? Need::optional : Need::required);
+  read_enum(t, "type", p.type);
+  t.read("point", p.point, p.type == ProbeType::max_speed ? Need::optional : Need::required);
 }
 
 void read_fields(Table& t, CaseSpec& c) {
@@ -758,8 +774,8 @@ void check_stages(CaseSpec& c, Context& ctx) {
   if (!c.stages.structure && !c.stages.fluid)
     ctx.problem("stages", "nothing to run: set stages.structure or stages.fluid to true");
   for (std::size_t i = 0; i < c.probes.size(); ++i) {
-    const std::string& type = c.probes[i].type;
-    const bool structural = type == "displacement";
+    const std::string type = name_of(c.probes[i].type);
+    const bool structural = c.probes[i].type == ProbeType::displacement;
     if (structural ? c.stages.structure : c.stages.fluid) continue;
     ctx.problem(index_path("probes", i) + ".type",
                 toml_string(type) + " probes need stages." + (structural ? "structure" : "fluid") + " = true");
@@ -824,10 +840,12 @@ void read_motion_files(CaseSpec& c, Context& ctx) {
   for (std::size_t i = 0; i < c.bodies.size(); ++i) {
     BodySpec& b = c.bodies[i];
     const std::string path = index_path("bodies", i) + ".motion";
-    if (b.kind == ParticleKind::structure && b.motion.type != "none" && b.clamps.empty())
+    if (b.kind == ParticleKind::structure && b.motion.type != MotionType::none && b.clamps.empty())
       ctx.problem(path, "moves the clamped particles of a structure, and this body has no clamps");
     MotionSpec& m = b.motion;
-    if ((m.type != "translation" && m.type != "rotation") || m.profile != "csv" || m.file.empty()) continue;
+    if ((m.type != MotionType::translation && m.type != MotionType::rotation) || m.profile != MotionLaw::csv ||
+        m.file.empty())
+      continue;
     std::filesystem::path file(m.file);
     if (file.is_relative()) file = folder / file;
     m.file = std::filesystem::absolute(file).lexically_normal().string();
@@ -972,32 +990,33 @@ std::string toml_shape(const Shape& s, int dimension) {
 }
 
 std::string toml_velocity(const InitialVelocitySpec& v, int dimension) {
-  if (v.type == "uniform")
-    return inline_table({{"type", toml_string(v.type)}, {"value", toml_vector(v.value, dimension)}});
-  if (v.type == "cantilever_mode")
-    return inline_table({{"type", toml_string(v.type)},
+  const std::string type = toml_string(name_of(v.type));
+  if (v.type == InitialVelocityType::uniform)
+    return inline_table({{"type", type}, {"value", toml_vector(v.value, dimension)}});
+  if (v.type == InitialVelocityType::cantilever_mode)
+    return inline_table({{"type", type},
                          {"kL", toml_float(v.kL)},
                          {"tip_velocity", toml_float(v.tip_velocity)},
                          {"length", toml_float(v.length)},
                          {"root", toml_vector(v.root, dimension)},
                          {"axis", toml_vector(v.axis, dimension)},
                          {"direction", toml_vector(v.direction, dimension)}});
-  return inline_table({{"type", toml_string(v.type)}});
+  return inline_table({{"type", type}});
 }
 
 std::string toml_motion(const MotionSpec& m, int dimension) {
-  std::vector<std::pair<std::string, std::string>> entries{{"type", toml_string(m.type)}};
-  if (m.type == "constant_velocity") entries.emplace_back("velocity", toml_vector(m.velocity, dimension));
-  if (m.type == "translation") entries.emplace_back("direction", toml_vector(m.direction, dimension));
-  if (m.type == "rotation") entries.emplace_back("pivot", toml_vector(m.pivot, dimension));
-  if (m.type == "translation" || m.type == "rotation") {
-    entries.emplace_back("profile", toml_string(m.profile));
-    if (m.profile == "polynomial") {
+  std::vector<std::pair<std::string, std::string>> entries{{"type", toml_string(name_of(m.type))}};
+  if (m.type == MotionType::constant_velocity) entries.emplace_back("velocity", toml_vector(m.velocity, dimension));
+  if (m.type == MotionType::translation) entries.emplace_back("direction", toml_vector(m.direction, dimension));
+  if (m.type == MotionType::rotation) entries.emplace_back("pivot", toml_vector(m.pivot, dimension));
+  if (m.type == MotionType::translation || m.type == MotionType::rotation) {
+    entries.emplace_back("profile", toml_string(name_of(m.profile)));
+    if (m.profile == MotionLaw::polynomial) {
       std::vector<std::string> items;
       for (double c : m.coefficients) items.push_back(toml_float(c));
       entries.emplace_back("coefficients", "[" + join(items, ", ") + "]");
       entries.emplace_back("until", toml_float(m.until));
-    } else if (m.profile == "sine") {
+    } else if (m.profile == MotionLaw::sine) {
       entries.emplace_back("amplitude", toml_float(m.amplitude));
       entries.emplace_back("period", toml_float(m.period));
       entries.emplace_back("phase", toml_float(m.phase));
@@ -1019,7 +1038,7 @@ void write_material(std::ostream& out, const MaterialSpec& m, int dimension) {
   }
   out << "youngs_modulus = " << toml_float(m.youngs_modulus) << "\n"
       << "poisson_ratio = " << toml_float(m.poisson_ratio) << "\n";
-  if (dimension == 2) out << "plane = " << toml_string(m.plane) << "\n";
+  if (dimension == 2) out << "plane = " << toml_string(name_of(m.plane)) << "\n";
 }
 
 void write_body(std::ostream& out, const BodySpec& b, int dimension) {
@@ -1041,13 +1060,14 @@ void write_body(std::ostream& out, const BodySpec& b, int dimension) {
 
 void write_load(std::ostream& out, const LoadSpec& l, int dimension) {
   out << "\n[[loads]]\n"
-      << "type = " << toml_string(l.type) << "\n"
+      << "type = " << toml_string(name_of(l.type)) << "\n"
       << "body = " << toml_string(l.body) << "\n";
-  if (l.type == "edge" || l.type == "traction") out << "region = " << toml_shape(l.region, dimension) << "\n";
-  if (l.type == "point") out << "point = " << toml_vector(l.region.center, dimension) << "\n";
-  if (l.type == "body")
+  if (l.type == LoadType::edge || l.type == LoadType::traction)
+    out << "region = " << toml_shape(l.region, dimension) << "\n";
+  if (l.type == LoadType::point) out << "point = " << toml_vector(l.region.center, dimension) << "\n";
+  if (l.type == LoadType::body)
     out << "acceleration = " << toml_vector(l.acceleration, dimension) << "\n";
-  else if (l.type == "traction")
+  else if (l.type == LoadType::traction)
     out << "traction = " << toml_vector(l.traction, dimension) << "\n";
   else
     out << "force = " << toml_vector(l.force, dimension) << "\n";
@@ -1057,7 +1077,7 @@ void write_load(std::ostream& out, const LoadSpec& l, int dimension) {
 void write_probe(std::ostream& out, const ProbeSpec& p, int dimension) {
   out << "\n[[probes]]\n"
       << "name = " << toml_string(p.name) << "\n"
-      << "type = " << toml_string(p.type) << "\n"
+      << "type = " << toml_string(name_of(p.type)) << "\n"
       << "point = " << toml_vector(p.point, dimension) << "\n";
 }
 

@@ -547,10 +547,10 @@ template <int D>
 RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene, PhaseTimer& timer) {
   std::vector<std::string> columns;
   for (const auto& p : scene.fluid_probes) {
-    if (p.type == "pressure") columns.push_back(p.name + ".p");
-    if (p.type == "front") columns.push_back(p.name + ".x");
-    if (p.type == "max_speed") columns.push_back(p.name + ".u");
-    if (p.type == "velocity")
+    if (p.type == ProbeType::pressure) columns.push_back(p.name + ".p");
+    if (p.type == ProbeType::front) columns.push_back(p.name + ".x");
+    if (p.type == ProbeType::max_speed) columns.push_back(p.name + ".u");
+    if (p.type == ProbeType::velocity)
       for (int d = 0; d < D; ++d) columns.push_back(p.name + "." + kComponents[d]);
   }
   if (scene.has_structure) add_displacement_columns(scene, columns);
@@ -592,10 +592,10 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
     timer.time("output", [&] {
       std::vector<double> row{t};
       for (const auto& p : scene.fluid_probes) {
-        if (p.type == "pressure") row.push_back(particles.interpolate_pressure(p.point));
-        if (p.type == "front") row.push_back(particles.front(p.point[D - 1]));
-        if (p.type == "max_speed") row.push_back(particles.max_speed());
-        if (p.type == "velocity") {
+        if (p.type == ProbeType::pressure) row.push_back(particles.interpolate_pressure(p.point));
+        if (p.type == ProbeType::front) row.push_back(particles.front(p.point[D - 1]));
+        if (p.type == ProbeType::max_speed) row.push_back(particles.max_speed());
+        if (p.type == ProbeType::velocity) {
           const Vec<D> u = particles.interpolate_velocity(p.point);
           for (int d = 0; d < D; ++d) row.push_back(u[d]);
         }

@@ -72,8 +72,8 @@ Real cantilever_mode_shape(Real kL, Real s_over_L) {
 
 template <int D>
 Vec<D> initial_velocity(const InitialVelocitySpec& iv, const Vec<D>& X) {
-  if (iv.type == "uniform") return to_vec<D>(iv.value);
-  if (iv.type == "cantilever_mode") {
+  if (iv.type == InitialVelocityType::uniform) return to_vec<D>(iv.value);
+  if (iv.type == InitialVelocityType::cantilever_mode) {
     const Vec<D> axis = to_vec<D>(iv.axis), dir = to_vec<D>(iv.direction);
     const Real s = std::clamp(dot(X - to_vec<D>(iv.root), axis), 0.0, iv.length);
     const Real shape = cantilever_mode_shape(iv.kL, s / iv.length) / cantilever_mode_shape(iv.kL, 1.0);
@@ -116,7 +116,7 @@ void add_fluid_body(const CaseSpec& spec, std::size_t bi, const std::vector<Vec<
   const BodySpec& body = spec.bodies[bi];
   const bool is_fluid = body.kind == ParticleKind::fluid;
   const Real volume = D == 2 ? spec.dx * spec.dx : spec.dx * spec.dx * spec.dx;
-  const bool moves = !is_fluid && body.motion.type != "none";
+  const bool moves = !is_fluid && body.motion.type != MotionType::none;
   if (moves) f.motions.emplace_back(body.motion);
   f.motion.resize(f.x.size(), -1);
   for (const auto& p : points) {
@@ -472,9 +472,9 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const
 
   for (std::size_t pi = 0; pi < spec.probes.size(); ++pi) {
     const ProbeSpec& p = spec.probes[pi];
-    if (p.type == "displacement") continue;
+    if (p.type == ProbeType::displacement) continue;
     const Vec<D> point = to_vec<D>(p.point);
-    if (p.type == "pressure" || p.type == "velocity") {
+    if (p.type == ProbeType::pressure || p.type == ProbeType::velocity) {
       Real nearest = std::numeric_limits<Real>::max();
       for (Index a = 0; a < n; ++a) nearest = std::min(nearest, norm2(period.delta(point, f.x[a])));
       if (std::sqrt(nearest) > f.fluid_kernel().support())
@@ -491,7 +491,7 @@ ElasticMaterial elastic_material(const MaterialSpec& m, int dimension) {
   const Real E = m.youngs_modulus, nu = m.poisson_ratio;
   const Real mu = E / (2 * (1 + nu));
   Real lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
-  if (dimension == 2 && m.plane == "stress") lambda = E * nu / (1 - nu * nu);
+  if (dimension == 2 && m.plane == PlaneCondition::stress) lambda = E * nu / (1 - nu * nu);
   return {m.density, lambda, mu, E};
 }
 
@@ -538,8 +538,8 @@ Scene<D> build_scene(const CaseSpec& spec) {
     shape_bounds<D>(body.shape, lo, hi);
     for (int d = 0; d < D; ++d) scene.body_extent = std::max(scene.body_extent, hi[d] - lo[d]);
     std::vector<int> clamp_count(body.clamps.size(), 0);
-    if (body.motion.type != "none") s.motions.emplace_back(body.motion);
-    const Index clamp_motion = body.motion.type != "none" ? static_cast<Index>(s.motions.size()) - 1 : -1;
+    if (body.motion.type != MotionType::none) s.motions.emplace_back(body.motion);
+    const Index clamp_motion = body.motion.type != MotionType::none ? static_cast<Index>(s.motions.size()) - 1 : -1;
     for (const auto& p : points) {
       unsigned char fixed = 0;
       for (std::size_t c = 0; c < body.clamps.size(); ++c)
@@ -584,11 +584,11 @@ Scene<D> build_scene(const CaseSpec& spec) {
                                    [&](const BodySpec& b) { return b.name == load.body; });
     const int bi = static_cast<int>(body - spec.bodies.begin());
     std::vector<Index> targets;
-    if (load.type == "body") {
+    if (load.type == LoadType::body) {
       for (Index a = 0; a < n; ++a)
         if (s.body[a] == bi && !s.fixed[a]) field.acc[a] = to_vec<D>(load.acceleration);
     } else {
-      if (load.type == "point") {
+      if (load.type == LoadType::point) {
         Real best = std::numeric_limits<Real>::max();
         Index arg = -1;
         for (Index a = 0; a < n; ++a) {
@@ -605,8 +605,9 @@ Scene<D> build_scene(const CaseSpec& spec) {
         problems.push_back(file + ": " + key + ".region: no free particle of body '" + load.body + "' is loaded");
       // A total force F shared by the loaded particles, f_i = F / n; or a traction t on each particle's
       // cell face, f_i = t s^(D-1) (s the body's spacing). Then a_i = f_i / m_i.
-      const Vec<D> force = load.type == "traction" ? std::pow(body->spacing(dx), D - 1) * to_vec<D>(load.traction)
-                                                   : (1.0 / static_cast<Real>(targets.size())) * to_vec<D>(load.force);
+      const Vec<D> force = load.type == LoadType::traction
+                               ? std::pow(body->spacing(dx), D - 1) * to_vec<D>(load.traction)
+                               : (1.0 / static_cast<Real>(targets.size())) * to_vec<D>(load.force);
       for (Index a : targets) field.acc[a] = (1.0 / (s.materials[s.material[a]].density * s.volume[a])) * force;
     }
     s.loads.push_back(std::move(field));
@@ -642,7 +643,7 @@ Scene<D> build_scene(const CaseSpec& spec) {
   // Probes: the structure particle nearest the point, which must lie within its spacing of the body.
   for (std::size_t pi = 0; pi < spec.probes.size(); ++pi) {
     const ProbeSpec& p = spec.probes[pi];
-    if (p.type != "displacement") continue;
+    if (p.type != ProbeType::displacement) continue;
     const Vec<D> point = to_vec<D>(p.point);
     Real best = std::numeric_limits<Real>::max();
     Index arg = -1;

@@ -20,7 +20,7 @@ struct DisplacementProbe {
 template <int D>
 struct FluidProbe {
   std::string name;
-  std::string type;  // pressure | velocity | front
+  ProbeType type = ProbeType::pressure;  // pressure, velocity, front or max_speed
   Vec<D> point;
 };
 

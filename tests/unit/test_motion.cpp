@@ -12,8 +12,8 @@ namespace {
 
 MotionSpec table_of(double (*f)(double), const std::vector<double>& times) {
   MotionSpec m;
-  m.type = "translation";
-  m.profile = "csv";
+  m.type = MotionType::translation;
+  m.profile = MotionLaw::csv;
   m.times = times;
   for (double t : times) m.values.push_back(f(t));
   return m;
@@ -55,7 +55,7 @@ TEST(MotionProfile, SplinePassesThroughTheRowsAndHoldsOutside) {
 
 TEST(MotionProfile, PolynomialHeldAfterUntil) {
   MotionSpec m;
-  m.type = "translation";
+  m.type = MotionType::translation;
   m.coefficients = {0.0, 0.1463, 72.305, -285.115};  // the gate lift of Liao et al. (2015)
   m.until = 0.1;
   const MotionProfile s(m);
@@ -68,15 +68,15 @@ TEST(MotionProfile, PolynomialHeldAfterUntil) {
 // Velocities are the time derivatives of the positions, and a rotation keeps distances to the pivot.
 TEST(RigidMotion, VelocityIsTheDerivativeOfPosition) {
   MotionSpec roll;
-  roll.type = "rotation";
+  roll.type = MotionType::rotation;
   roll.pivot = {0.3, 0.0, 0.0};
-  roll.profile = "sine";
+  roll.profile = MotionLaw::sine;
   roll.amplitude = 4.0;  // degrees
   roll.period = 1.211;
   MotionSpec lift;
-  lift.type = "translation";
+  lift.type = MotionType::translation;
   lift.direction = {0.6, 0.8, 0.0};
-  lift.profile = "sine";
+  lift.profile = MotionLaw::sine;
   lift.amplitude = 0.02;
   lift.period = 0.5;
   lift.phase = 0.3;
@@ -90,8 +90,8 @@ TEST(RigidMotion, VelocityIsTheDerivativeOfPosition) {
       const double h = 1e-6;
       const Vec<2> fd = (1.0 / (2 * h)) * (m.position(X, t + h) - m.position(X, t - h));
       const Vec<2> v = m.velocity(X, t);
-      EXPECT_NEAR(v[0], fd[0], 1e-8) << spec.type << " t = " << t;
-      EXPECT_NEAR(v[1], fd[1], 1e-8) << spec.type << " t = " << t;
+      EXPECT_NEAR(v[0], fd[0], 1e-8) << name_of(spec.type) << " t = " << t;
+      EXPECT_NEAR(v[1], fd[1], 1e-8) << name_of(spec.type) << " t = " << t;
     }
   }
   const RigidMotion<2> m(roll);
