@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "io/case_loader.hpp"
+#include "scratch_dir_test.hpp"
 #include "sim/scene.hpp"
 
 namespace isph {
@@ -94,22 +95,9 @@ type = "front"
 point = [0, 0.01]
 )";
 
-class CaseLoaderTest : public ::testing::Test {
+class CaseLoaderTest : public ScratchDirTest {
  protected:
-  void SetUp() override {
-    const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("isph_case_loader_" + std::to_string(::getpid()) + "_" + test->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  // Writes `text` to `name` in the test's directory and returns its path.
-  std::string write(const std::string& name, const std::string& text) {
-    const auto path = (dir_ / name).string();
-    std::ofstream(path) << text;
-    return path;
-  }
+  CaseLoaderTest() : ScratchDirTest("isph_case_loader_") {}
 
   // The problems load_case reports (none if it succeeds).
   static std::vector<std::string> problems(const std::string& path,
@@ -121,8 +109,6 @@ class CaseLoaderTest : public ::testing::Test {
     }
     return {};
   }
-
-  fs::path dir_;
 };
 
 // Whether `expected` is one of `problems`; the list is printed when it is not.

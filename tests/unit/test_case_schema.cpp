@@ -10,6 +10,7 @@
 
 #include "io/case_loader.hpp"
 #include "io/case_schema.hpp"
+#include "scratch_dir_test.hpp"
 
 namespace fs = std::filesystem;
 using namespace isph;
@@ -40,21 +41,9 @@ std::string differences(const CaseSpec& a, const CaseSpec& b) {
   return parts;
 }
 
-class CaseSchema : public ::testing::Test {
+class CaseSchema : public ScratchDirTest {
  protected:
-  void SetUp() override {
-    const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("isph_case_schema_" + std::to_string(::getpid()) + "_" + test->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string write(const std::string& name, const std::string& text) {
-    const auto path = (dir_ / name).string();
-    std::ofstream(path) << text;
-    return path;
-  }
+  CaseSchema() : ScratchDirTest("isph_case_schema_") {}
 
   // Loads the resolved case of `spec` back; both compared without their file names and TOML text.
   void expect_round_trip(const CaseSpec& spec, const std::string& what) {
@@ -68,8 +57,6 @@ class CaseSchema : public ::testing::Test {
                                 << differences(first, again) << ":\n"
                                 << spec.resolved_toml;
   }
-
-  fs::path dir_;
 };
 
 std::string read_text(const std::string& path) {
