@@ -263,16 +263,11 @@ bool read_choice(Table& t, const std::string& key, std::string& out, const Choic
 // The same for an enumeration's names (core/enum_names.hpp).
 template <class E>
 bool read_enum(Table& t, const std::string& key, E& out, Need need = Need::optional) {
-  std::string value;
-  if (!t.read(key, value, need)) return need == Need::optional && !t.has(key);
-  const std::optional<E> chosen = enum_from_name<E>(value);
-  if (!chosen) {
-    Choices allowed;
-    for (const auto& entry : enum_names(E{})) allowed.emplace_back(entry.name);
-    t.problem(key, one_of(allowed) + " (got " + toml_string(value) + ")");
-    return false;
-  }
-  out = *chosen;
+  Choices allowed;
+  for (const auto& entry : enum_names(E{})) allowed.emplace_back(entry.name);
+  std::string name = name_of(out);
+  if (!read_choice(t, key, name, allowed, need)) return false;
+  out = *enum_from_name<E>(name);
   return true;
 }
 
