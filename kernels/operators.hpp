@@ -286,11 +286,12 @@ ISPH_HD inline Real laplacian_pair_weight(const Mat<D>& bhat, const Vec<D>& r_ab
 }
 
 // B^_a of Fatehi & Manzari (2011): the symmetric tensor that makes RenormalisedLaplacian exact for
-// quadratic fields (derivation at the top of this file). Needs L from GradientCorrection.
+// quadratic fields (derivation at the top of this file). It needs L_a, whose moment M_a it sums in the
+// same loop: it writes L_a as GradientCorrection does, so that one pass over the pairs gives both.
 template <int D>
 struct LaplacianRenormalisation {
   OperatorView<D> v;
-  const Mat<D>* L;
+  Mat<D>* L;
   Mat<D>* Bhat;
   ISPH_HD void operator()(Index a) const {
     constexpr int P = detail::SymPairs<D>::count;
@@ -306,14 +307,16 @@ struct LaplacianRenormalisation {
       }
     for (int i = 0; i < D; ++i)
       for (int p = 0; p < P; ++p) C[i][p] = 0;
+    Mat<D> moment = Mat<D>::zero();  // M_a of GradientCorrection
 
     for (Index k = v.nbr_offset[a]; k < v.nbr_offset[a + 1]; ++k) {
       const Index b = v.nbr[k];
       const Vec<D> r_ab = v.r(a, b);
+      const Vec<D> g = v.volume[b] * v.gradient(a, b, r_ab);
+      moment = moment + outer((-1.0) * r_ab, g);
       const Real rho = sqrt(norm2(r_ab));
       if (!(rho > 0)) continue;
       const Vec<D> e = (1.0 / rho) * r_ab;
-      const Vec<D> g = v.volume[b] * v.gradient(a, b, r_ab);
       for (int p = 0; p < P; ++p) {
         const Real ekl = e[pk[p]] * e[pl[p]];
         for (int i = 0; i < D; ++i) {
@@ -327,7 +330,8 @@ struct LaplacianRenormalisation {
     }
 
     // LC_m(kl) = L_mp C_p(kl)
-    const Mat<D> l = L[a];
+    const Mat<D> l = correction_from_moment(moment);
+    L[a] = l;
     Real LC[D][P];
     for (int m = 0; m < D; ++m)
       for (int p = 0; p < P; ++p) {

@@ -418,6 +418,23 @@ class AggregationAmg {
     return "";
   }
 
+  // Takes A (the size of the last set-up's fine matrix, in the backend's memory) as the fine matrix and
+  // keeps the levels below it: the next PPE, whose particles moved a little, is smoothed with its own
+  // rows and corrected on the coarse levels of the last set-up. False when there is no set-up to keep
+  // or the size differs.
+  bool refresh_fine(const CsrView& A) {
+    if (levels_used_ == 0 || A.rows != levels_[0].n) return false;
+    Level& fine = levels_[0];
+    fine.A_view = A;
+    fine.nonzeros = entries(A);
+    parallel_for(ops_.exec(), fine.n, InverseDiagonal{A, fine.dinv.data()});
+    if (parallel_reduce(ops_.exec(), fine.n, RowWithoutDiagonal::kNoRow, RowWithoutDiagonal{fine.dinv.data()},
+                        MinOf{}) != RowWithoutDiagonal::kNoRow)
+      return false;
+    parallel_for(ops_.exec(), fine.n, amg::InverseAbsoluteRowSum{A, fine.l1inv.data()});
+    return true;
+  }
+
   // z = M^-1 r: one V-cycle (r and z in the backend's memory, the fine matrix's size).
   void apply(const double* r, double* z) { cycle(0, r, z); }
 

@@ -79,6 +79,14 @@ class Bicgstab {
     return "";
   }
 
+  // Keeps the AMG hierarchy of the last set_preconditioner for the backend's new matrix of the same
+  // size (AggregationAmg::refresh_fine); the other preconditioners are rebuilt, which costs one pass.
+  // False when there is nothing to keep.
+  bool refresh_preconditioner() {
+    if (m_ != Preconditioner::amg) return set_preconditioner(m_).empty();
+    return amg_ && amg_->refresh_fine(ops_.matrix());
+  }
+
   // Iterates from x until ||r|| <= tol_abs or max_iterations; x is in the backend's memory. Returns the
   // iterations done, whether the recursive residual met tol_abs, and why it stopped otherwise.
   struct Result {
@@ -209,6 +217,14 @@ class OwnKrylovSolver final : public KrylovSolverFrame {
     if (std::string why = krylov_->set_preconditioner(m); !why.empty()) return why;
     update_rhs(b);
     return "";
+  }
+
+  bool refresh_matrix(const CsrMatrix& A, std::span<const double> b) override {
+    if (!krylov_ || krylov_->size() != A.rows) return false;
+    ops_.set_matrix(A);
+    if (!krylov_->refresh_preconditioner()) return false;
+    update_rhs(b);
+    return true;
   }
 
   void update_rhs(std::span<const double> b) override {

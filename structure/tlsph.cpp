@@ -14,17 +14,20 @@ namespace isph {
 
 template <int D>
 void tlsph_stress(const Exec& exec, const TlsphView<D>& view) {
-  parallel_for(exec, view.n, TlsphStress<D>{view});
+  const auto over_strained = [&](const auto& f) {
+    parallel_for_listed(exec, view.n, view.strained, view.strained_count, f);
+  };
+  over_strained(TlsphStress<D>{view});
   if (view.cell_quadrature) {
-    parallel_for(exec, view.n, TlsphStrainGradient<D>{view});
-    parallel_for(exec, view.n, TlsphGradientStress<D>{view});
+    over_strained(TlsphStrainGradient<D>{view});
+    over_strained(TlsphGradientStress<D>{view});
   }
-  if (view.hourglass > 0 && view.quadratic) parallel_for(exec, view.n, TlsphHourglass<D>{view});
+  if (view.hourglass > 0 && view.quadratic) over_strained(TlsphHourglass<D>{view});
 }
 
 template <int D>
 void tlsph_acceleration(const Exec& exec, const TlsphView<D>& view) {
-  parallel_for(exec, view.n, TlsphAcceleration<D>{view});
+  parallel_for_listed(exec, view.n, view.moving, view.moving_count, TlsphAcceleration<D>{view});
 }
 
 template <int D>
@@ -86,15 +89,18 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
   // Per pair (a, b): the hourglass weight and the reverse pair's gradient c_ba; per particle S_a.
   rcgrad_.resize(nbr_.size());
   cgrad_sum_.assign(n_, Vec<D>::zero());
+  hg_moment_.assign(n_, Mat<D>::zero());
   for (Index a = 0; a < n_; ++a)
     for (Index k = nbr_offset_[a]; k < nbr_offset_[a + 1]; ++k) {
       const Index b = nbr_[k];
       const Vec<D> Xab = X_[a] - X_[b];
       hg_weight_[k] = volume_[b] * reference.kernel(a, b).value(std::sqrt(norm2(Xab))) / norm2(Xab);
+      hg_moment_[a] = hg_moment_[a] + hg_weight_[k] * outer(Xab, Xab);
       cgrad_sum_[a] += cgrad_[k];
       const auto first = nbr_.begin() + nbr_offset_[b], last = nbr_.begin() + nbr_offset_[b + 1];
       rcgrad_[k] = cgrad_[std::find(first, last, a) - nbr_.begin()];  // the list is symmetric
     }
+  list_strained_particles();
   F_.assign(n_, Mat<D>::identity());
   stress_.assign(n_, Mat<D>::zero());
   if (cell_quadrature_) {
@@ -112,6 +118,31 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
   update_stress();
 }
 
+// A free particle's acceleration reads its neighbours' stress; the stress of a particle reads its
+// neighbours' places, the quadratic hourglass pass their F, and the cell quadrature's two passes the
+// strain two links away: the stress is needed up to `reach` links from a free particle.
+template <int D>
+void TlsphSolver<D>::list_strained_particles() {
+  strained_.clear();
+  moving_.clear();
+  if (!motions_.empty()) return;  // clamps that move: every particle, for the clamps' work
+  const int reach = 1 + (hourglass_ > 0 && quadratic_) + 2 * cell_quadrature_;
+  std::vector<unsigned char> near(fixed_.begin(), fixed_.end());
+  for (auto& f : near) f = !f;  // the free particles
+  for (int round = 0; round < reach; ++round) {
+    std::vector<unsigned char> next = near;
+    for (Index a = 0; a < n_; ++a)
+      for (Index k = nbr_offset_[a]; k < nbr_offset_[a + 1] && !next[a]; ++k) next[a] = near[nbr_[k]];
+    near.swap(next);
+  }
+  for (Index a = 0; a < n_; ++a) {
+    if (near[a]) strained_.push_back(a);
+    if (!fixed_[a]) moving_.push_back(a);
+  }
+  if (static_cast<Index>(strained_.size()) == n_) strained_.clear();  // every particle: no list
+  if (static_cast<Index>(moving_.size()) == n_) moving_.clear();
+}
+
 template <int D>
 void TlsphSolver<D>::make_state_device_visible() {
   make_device_visible(materials_);
@@ -120,12 +151,13 @@ void TlsphSolver<D>::make_state_device_visible() {
   make_device_visible(fixed_);
   make_device_visible(block_sums_), make_device_visible(power_record_), make_device_visible(clamp_record_);
   make_device_visible(nbr_offset_), make_device_visible(nbr_);
+  make_device_visible(strained_), make_device_visible(moving_);
   make_device_visible(obstacle_point_), make_device_visible(obstacle_radius_);
   make_device_visible(contact_offset_), make_device_visible(contact_point_), make_device_visible(contact_radius_);
   for (auto* v : {&load_acc_, &interaction_, &X_, &x_, &v_, &acc_, &cgrad_, &rcgrad_, &cgrad_sum_, &x0_, &v0_,
                   &x_sum_, &v_sum_, &saved_x_, &saved_v_})
     make_device_visible(*v);
-  for (auto* m : {&F_, &stress_, &strain_, &gradient_stress_}) make_device_visible(*m);
+  for (auto* m : {&F_, &stress_, &strain_, &gradient_stress_, &hg_moment_}) make_device_visible(*m);
 }
 
 template <int D>
@@ -137,6 +169,7 @@ TlsphView<D> TlsphSolver<D>::view() {
   s.nbr = nbr_.data();
   s.cgrad = cgrad_.data();
   s.hg_weight = hg_weight_.data();
+  s.hg_moment = hg_moment_.data();
   s.rcgrad = rcgrad_.data();
   s.cgrad_sum = cgrad_sum_.data();
   s.volume = volume_.data();
@@ -144,6 +177,10 @@ TlsphView<D> TlsphSolver<D>::view() {
   s.material = material_.data();
   s.materials = materials_.data();
   s.fixed = fixed_.data();
+  s.strained = strained_.empty() ? nullptr : strained_.data();
+  s.strained_count = static_cast<Index>(strained_.size());
+  s.moving = moving_.empty() ? nullptr : moving_.data();
+  s.moving_count = static_cast<Index>(moving_.size());
   s.clamps_move = !motions_.empty();
   s.x = x_.data();
   s.v = v_.data();

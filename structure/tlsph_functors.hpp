@@ -62,11 +62,19 @@ struct TlsphView {
   const Vec<D>* rcgrad;     // c_ba, the reverse pair's gradient, stored with pair (a, b)
   const Vec<D>* cgrad_sum;  // S_a = sum_b c_ab
   const Real* hg_weight;    // w_ab = V_b W(|X_ab|) / |X_ab|^2, for hourglass control
+  const Mat<D>* hg_moment;  // G_a = sum_b w_ab X_ab ⊗ X_ab, for the linear-exact hourglass error (TlsphStress)
   const Real* volume;
   const Real* cell_moment;  // M_a / V_a = V_a^(2/D) / 12, the cell's second moment per volume (cell quadrature)
   const int* material;
   const ElasticMaterial* materials;
   const unsigned char* fixed;  // clamped particles: prescribed zero displacement
+  // Where clamps stand still, the particles whose stress can change (the free ones and the clamped ones
+  // within the stress passes' reach of them) and the free ones; null: every particle. A clamped particle
+  // further in keeps F = I, no stress and no energy, as every neighbour of it stays in place.
+  const Index* strained;
+  Index strained_count;
+  const Index* moving;
+  Index moving_count;
   bool clamps_move;  // some clamps move: clamped particles get their free acceleration (TlsphAcceleration)
   // state
   const Vec<D>* x;
@@ -118,19 +126,17 @@ ISPH_HD inline Vec<D> hourglass_difference(const TlsphView<D>& s, Index a, Index
   return (s.F[a] + s.F[b]) * (s.X[b] - s.X[a]) - 2.0 * (s.x[b] - s.x[a]);
 }
 
-// Hourglass control of particle a with its deformation gradient F_a: T_a += kappa H_a and the
-// hourglass energy density kappa/2 sum_b w_ab |eps_ab|^2. The symmetric error (quadratic gradients)
-// reads the neighbours' F, so it runs as a pass of its own after TlsphStress; the one-sided error
-// needs only F_a and runs inside TlsphStress.
+// Hourglass control with quadratic-exact pair gradients: T_a += kappa H_a and the hourglass energy
+// density kappa/2 sum_b w_ab |eps_ab|^2, with the symmetric error, which reads the neighbours' F: a pass
+// of its own after TlsphStress. The linear-exact error needs only F_a and is summed inside TlsphStress.
 template <int D>
-ISPH_HD inline void add_hourglass(const TlsphView<D>& s, Index a, const Mat<D>& Fa) {
+ISPH_HD inline void add_hourglass(const TlsphView<D>& s, Index a) {
   Mat<D> H = Mat<D>::zero();
   Real e = 0;
   for (Index k = s.nbr_offset[a]; k < s.nbr_offset[a + 1]; ++k) {
     const Index b = s.nbr[k];
-    const Vec<D> Xab = s.X[b] - s.X[a];
-    const Vec<D> eab = s.quadratic ? 0.5 * hourglass_difference(s, a, b) : Fa * Xab - (s.x[b] - s.x[a]);
-    H = H + s.hg_weight[k] * outer(eab, Xab);
+    const Vec<D> eab = 0.5 * hourglass_difference(s, a, b);
+    H = H + s.hg_weight[k] * outer(eab, s.X[b] - s.X[a]);
     e += s.hg_weight[k] * norm2(eab);
   }
   const Real kappa = 0.5 * s.hourglass * s.materials[s.material[a]].youngs_modulus;
@@ -141,33 +147,52 @@ ISPH_HD inline void add_hourglass(const TlsphView<D>& s, Index a, const Mat<D>& 
 template <int D>
 struct TlsphHourglass {
   TlsphView<D> s;
-  ISPH_HD void operator()(Index a) const { add_hourglass(s, a, s.F[a]); }
+  ISPH_HD void operator()(Index a) const { add_hourglass(s, a); }
 };
 
 // Deformation gradient (Eq. 36, written with displacements so that F = I exactly at rest),
 // St. Venant-Kirchhoff stress (svk_stress) and the first Piola-Kirchhoff stress P = F S, the
 // reference-frame stress of Eq. 42.
+// With linear-exact pair gradients the hourglass moment and energy come from the same loop: with
+// u_ab = x_ab - X_ab, eps_ab = (F_a - I) X_ab - u_ab, so
+//   H_a = (F_a - I) G_a - sum_b w_ab u_ab ⊗ X_ab,
+//   sum_b w_ab |eps_ab|^2 = (F_a - I)^T (F_a - I) : G_a - 2 (F_a - I) : sum_b w_ab u_ab ⊗ X_ab + sum_b w_ab |u_ab|^2
+// with the reference moment G_a = sum_b w_ab X_ab ⊗ X_ab (TlsphView::hg_moment).
 template <int D>
 struct TlsphStress {
   TlsphView<D> s;
   ISPH_HD void operator()(Index a) const {
     const Vec<D> ua = s.x[a] - s.X[a];
-    Mat<D> F = Mat<D>::identity();
+    const bool hourglass = s.hourglass > 0 && !s.quadratic;
+    Mat<D> F = Mat<D>::identity(), uX = Mat<D>::zero();
+    Real uu = 0;
     for (Index k = s.nbr_offset[a]; k < s.nbr_offset[a + 1]; ++k) {
       const Index b = s.nbr[k];
       const Vec<D> uab = (s.x[b] - s.X[b]) - ua;
       const Vec<D> g = s.cgrad[k];
       for (int i = 0; i < D; ++i)
         for (int j = 0; j < D; ++j) F(i, j) += uab[i] * g[j];
+      if (hourglass) {
+        const Real w = s.hg_weight[k];
+        uX = uX + outer(w * uab, s.X[b] - s.X[a]);
+        uu += w * norm2(uab);
+      }
     }
     Real psi = 0;
     const Mat<D> E = green_strain(F);
-    const Mat<D> S = svk_stress(E, s.materials[s.material[a]], &psi);
+    const ElasticMaterial m = s.materials[s.material[a]];
+    const Mat<D> S = svk_stress(E, m, &psi);
     s.F[a] = F;
-    s.stress[a] = F * S;
+    Mat<D> T = F * S;
+    if (hourglass) {
+      const Mat<D> Fm = F - Mat<D>::identity(), G = s.hg_moment[a];
+      const Real kappa = 0.5 * s.hourglass * m.youngs_modulus;
+      T = T + kappa * (Fm * G - uX);
+      psi += 0.5 * kappa * (ddot(transpose(Fm) * Fm, G) - 2 * ddot(Fm, uX) + uu);
+    }
+    s.stress[a] = T;
     s.psi[a] = psi;
     if (s.cell_quadrature) s.strain[a] = E;
-    if (s.hourglass > 0 && !s.quadratic) add_hourglass(s, a, F);
   }
 };
 

@@ -97,6 +97,22 @@ void parallel_for(const Exec& exec, Index n, const F& f) {
   for (Index i = 0; i < n; ++i) f(i);
 }
 
+// f over the entries of an index list (a subset of a particle set): f(list[i]) for i < count, or f over
+// [0, n) when list is null.
+template <class F>
+struct OnList {
+  const Index* list;
+  F f;
+  ISPH_HD void operator()(Index i) const { f(list[i]); }
+};
+template <class F>
+void parallel_for_listed(const Exec& exec, Index n, const Index* list, Index count, const F& f) {
+  if (list)
+    parallel_for(exec, count, OnList<F>{list, f});
+  else
+    parallel_for(exec, n, f);
+}
+
 // Combinations for parallel_reduce. Only exact ones are offered (max and min of any type, sums of
 // integers), so that a result does not depend on the thread count, the order or the device.
 struct MaxOf {

@@ -242,13 +242,15 @@ std::vector<CaseKey> declare_keys() {
       keys, "fluid.ppe", "preconditioner_reuse", [](auto& c) -> auto& { return c.fluid.ppe.preconditioner_reuse; })
       .bounds(KeyBounds{0, 1000})
       .doc(
-          "hypre: keep a BoomerAMG hierarchy for up to this many further fluid steps, the Krylov method taking each "
-          "new matrix (the interface iterations of one step always share it). A kept hierarchy is dropped when the "
-          "particles are reordered, when a solve needs more than twice the iterations of the one after its set-up "
-          "(plus two), or when a solve fails (the step is then solved again with a fresh one). The elastic gate and "
-          "the hydrostatic plate use 10 with a tolerance of 1e-5: on the gate the PPE solve took 18.2 s instead of "
-          "25.6 s (1e-8, a new hierarchy every step; 1 thread), the tip's RMSEs within 0.05 mm (docs/SOLVERS.md). "
-          "Other backends set up every step");
+          "keep the AMG hierarchy (hypre's BoomerAMG, or native and cuda's aggregation AMG, which smooths with each "
+          "new matrix's own rows) for up to this many further fluid steps, the Krylov method taking each new matrix "
+          "(the interface iterations of one step always share it). A kept hierarchy is dropped when the particles "
+          "are reordered (every 20 steps), when a solve needs more than twice the iterations of the one after its "
+          "set-up (plus two), or when a solve fails (the step is then solved again with a fresh one). The hydrostatic "
+          "plate uses 10 with hypre and a tolerance of 1e-5: on the gate the PPE solve took 18.2 s instead of 25.6 "
+          "s (1e-8, a new hierarchy every step; 1 thread), the tip's RMSEs within 0.05 mm (docs/SOLVERS.md); the "
+          "elastic gate 20 with the native AMG (docs/PERFORMANCE.md). Jacobi, polynomial and ILU preconditioners "
+          "are built afresh for every matrix");
   // [fluid.wcsph]
   add(
       keys, "fluid.wcsph", "time_stepping", [](auto& c) -> auto& { return c.fluid.wcsph.time_stepping; })

@@ -128,10 +128,7 @@ void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
 
   // Eqs. 10, 12-13: intermediate velocity at r* from gravity and viscosity.
   timer.time("predictor", [&] {
-    if (kernel_correction_) {
-      parallel_for(exec_, n, GradientCorrection<D>{v.op, L_.data()});
-      parallel_for(exec_, n, LaplacianRenormalisation<D>{v.op, L_.data(), Bhat_.data()});
-    }
+    if (kernel_correction_) parallel_for(exec_, n, LaplacianRenormalisation<D>{v.op, L_.data(), Bhat_.data()});
     parallel_for(exec_, n, VelocityGradient<D>{v, L_.data(), particles_.velocity.data(), true, sps ? settings_.smagorinsky : 0.0,
                                                grad_u_.data(), eddy_viscosity_.data()});
     const ViscousAcceleration<D> viscous{v, Bhat_.data(), grad_u_.data(), particles_.velocity.data(),

@@ -133,10 +133,7 @@ void WcsphSolver<D>::configure(Real dt, PhaseTimer& timer) {
     });
   if (viscosity_ > 0)
     timer.time("viscosity", [&] {
-      if (kernel_correction_) {
-        parallel_for(exec_, n, GradientCorrection<D>{v.op, L_.data()});
-        parallel_for(exec_, n, LaplacianRenormalisation<D>{v.op, L_.data(), Bhat_.data()});
-      }
+      if (kernel_correction_) parallel_for(exec_, n, LaplacianRenormalisation<D>{v.op, L_.data(), Bhat_.data()});
       parallel_for(exec_, n, VelocityGradient<D>{v, L_.data(), particles_.velocity.data(), true, 0.0, grad_u_.data(), nullptr});
       const ViscousAcceleration<D> viscous{v, Bhat_.data(), grad_u_.data(), particles_.velocity.data(), nullptr, viscosity_,
                                            viscous_.data()};

@@ -87,6 +87,9 @@ TEST(DeviceStages, TlsphStressAndAccelerationCudaMatchesCpu) {
         load(std::vector<Vec<2>>(1, Vec<2>::zero()));
     DeviceArray<Index> off(vec(h.nbr_offset, n + 1)), nbr(vec(h.nbr, pairs));
     DeviceArray<Real> hg_weight(vec(h.hg_weight, pairs)), volume(vec(h.volume, n)), cell_moment(vec(h.cell_moment, n));
+    DeviceArray<Mat<2>> hg_moment(vec(h.hg_moment, n));
+    DeviceArray<Index> strained(vec(h.strained, h.strained ? h.strained_count : 0)),
+        moving(vec(h.moving, h.moving ? h.moving_count : 0));
     DeviceArray<int> mat(vec(h.material, n));
     DeviceArray<ElasticMaterial> mats(vec(h.materials, 1));
     DeviceArray<unsigned char> fixed(vec(h.fixed, n));
@@ -105,7 +108,8 @@ TEST(DeviceStages, TlsphStressAndAccelerationCudaMatchesCpu) {
     TlsphView<2> d = h;
     d.X = X.data(), d.x = x.data(), d.v = v.data(), d.cgrad = cgrad.data();
     d.rcgrad = rcgrad.data(), d.cgrad_sum = cgrad_sum.data(), d.hg_weight = hg_weight.data(), d.volume = volume.data();
-    d.cell_moment = cell_moment.data();
+    d.cell_moment = cell_moment.data(), d.hg_moment = hg_moment.data();
+    d.strained = h.strained ? strained.data() : nullptr, d.moving = h.moving ? moving.data() : nullptr;
     d.nbr_offset = off.data(), d.nbr = nbr.data(), d.material = mat.data(), d.materials = mats.data();
     d.fixed = fixed.data(), d.load_acc = load.data(), d.loads = 0;
     d.obstacles = {contact_offset.data(), nullptr, nullptr};
@@ -119,12 +123,19 @@ TEST(DeviceStages, TlsphStressAndAccelerationCudaMatchesCpu) {
     const auto acc_d = acc.to_host();
     const auto F_d = F.to_host();
     const auto psi_d = psi.to_host();
+    // The passes visit the free particles (acceleration) and those within their reach (stress): the
+    // clamped column furthest in keeps its poison, except with the cell quadrature's longer reach.
+    ASSERT_TRUE(h.moving != nullptr);
+    std::vector<bool> strained_mask(n, h.strained == nullptr);
+    for (Index k = 0; h.strained && k < h.strained_count; ++k) strained_mask[h.strained[k]] = true;
     for (Index a = 0; a < n; ++a) {
       for (int i = 0; i < 2; ++i) {
-        EXPECT_NEAR(acc_d[a][i], h.acc[a][i], 1e-12 * (1 + std::abs(h.acc[a][i]))) << "seed " << seed << " particle " << a;
-        for (int j = 0; j < 2; ++j) EXPECT_NEAR(F_d[a](i, j), h.F[a](i, j), 1e-12);
+        if (!h.fixed[a])
+          EXPECT_NEAR(acc_d[a][i], h.acc[a][i], 1e-12 * (1 + std::abs(h.acc[a][i])))
+              << "seed " << seed << " particle " << a;
+        for (int j = 0; j < 2 && strained_mask[a]; ++j) EXPECT_NEAR(F_d[a](i, j), h.F[a](i, j), 1e-12);
       }
-      EXPECT_NEAR(psi_d[a], h.psi[a], 1e-12 * (1 + std::abs(h.psi[a])));
+      if (strained_mask[a]) EXPECT_NEAR(psi_d[a], h.psi[a], 1e-12 * (1 + std::abs(h.psi[a])));
     }
   }
 }

@@ -231,6 +231,21 @@ TEST(Operators, RenormalisationNearIdentityInRegularInterior) {
   }
 }
 
+// The renormalisation's pass sums L_a's moment too: the predictor runs it alone.
+TEST(Operators, RenormalisationWritesTheGradientCorrection) {
+  for (const auto& kc : kKernels) {
+    Block<2> blk(12, 0.1, 0.3, 5u, kc);
+    const Index n = blk.n();
+    const OperatorView<2> v = blk.view();
+    std::vector<Mat<2>> L(n), L_renormalised(n), B(n);
+    parallel_for(Exec{}, n, GradientCorrection<2>{v, L.data()});
+    parallel_for(Exec{}, n, LaplacianRenormalisation<2>{v, L_renormalised.data(), B.data()});
+    for (Index a = 0; a < n; ++a)
+      for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j) ASSERT_EQ(L_renormalised[a](i, j), L[a](i, j)) << a;
+  }
+}
+
 TEST(Operators, PositionDivergenceDetectsFreeSurface) {
   for (const auto& kc : kKernels) {
     const int n_side = 20;
