@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Set-up, build, and the main demos, with plots (axes in SI units):
 #  1. the elastic gate (Antoci et al. 2007; ISPH-TLSPH, the water at 2.5 mm and the gate twice as
-#     fine, the whole 0.4 s, about half a minute on 2 cores): out/elastic_gate/, with the gate tip's
+#     fine, the whole 0.4 s, about 13 s on 2 cores): out/elastic_gate/, with the gate tip's
 #     displacement against the reference curves (tip_ux.png, tip_uy.png) and a snapshot at the largest
 #     opening, the water coloured by pressure and the gate by its vertical stress (snapshot.png);
 #  2. the dam break (ISPH, a/dx = 40) up to the impact on the far wall, t = 0.4 s: out/dam_break/, with
