@@ -8,6 +8,7 @@
 #include "core/device_emulation.hpp"
 #include "io/case_loader.hpp"
 #include "io/case_schema.hpp"
+#include "io/list_schema.hpp"
 #include "sim/run.hpp"
 #include "sim/scene.hpp"
 
@@ -81,7 +82,8 @@ int main(int argc, char** argv) {
   cases->add_option("--dir", cases_dir, "folder of case files");
 
   std::string docs_path;
-  auto* keys = app.add_subcommand("keys", "print the reference of the settings keys (docs/CASES.md's tables)");
+  auto* keys =
+      app.add_subcommand("keys", "print the reference of the case keys, settings and lists (docs/CASES.md's tables)");
   keys->add_option("--update", docs_path, "regenerate the key tables of this markdown file in place")
       ->check(CLI::ExistingFile);
 
@@ -101,6 +103,8 @@ int main(int argc, char** argv) {
         for (const std::string& section : case_sections())
           std::printf("## %s\n\n%s\n", section.empty() ? "top level" : ("[" + section + "]").c_str(),
                       key_reference(section).c_str());
+        for (const std::string& table : list_tables())
+          std::printf("## %s\n\n%s\n", table.c_str(), list_key_reference(table).c_str());
         return 0;
       }
       std::ifstream in(docs_path);

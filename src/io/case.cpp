@@ -32,12 +32,9 @@ bool ball_contains(const Shape& s, const std::array<double, 3>& p, int dimension
 
 }  // namespace
 
-// Only the first `dimension` components count. Other types ("point" regions of point loads)
-// contain nothing.
+// Only the first `dimension` components count.
 bool Shape::contains(const std::array<double, 3>& p, int dimension) const {
-  if (type == "rectangle" || type == "box") return box_contains(*this, p, dimension);
-  if (type == "circle" || type == "sphere") return ball_contains(*this, p, dimension);
-  return false;
+  return is_ball(type) ? ball_contains(*this, p, dimension) : box_contains(*this, p, dimension);
 }
 
 }  // namespace isph

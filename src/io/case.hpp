@@ -82,8 +82,16 @@ constexpr std::span<const EnumName<ProbeType>> enum_names(ProbeType) { return kP
 
 // A geometric primitive. In 2D: "rectangle" (min, max) or "circle" (center, radius).
 // In 3D: "box" (min, max) or "sphere" (center, radius). Unused components stay zero.
+enum class ShapeType { rectangle, circle, box, sphere };
+constexpr EnumName<ShapeType> kShapeTypeNames[] = {{ShapeType::rectangle, "rectangle"},
+                                                   {ShapeType::circle, "circle"},
+                                                   {ShapeType::box, "box"},
+                                                   {ShapeType::sphere, "sphere"}};
+constexpr std::span<const EnumName<ShapeType>> enum_names(ShapeType) { return kShapeTypeNames; }
+inline bool is_ball(ShapeType t) { return t == ShapeType::circle || t == ShapeType::sphere; }
+
 struct Shape {
-  std::string type;                 // rectangle | circle | box | sphere
+  ShapeType type = ShapeType::rectangle;
   std::array<double, 3> min{};      // rectangle / box
   std::array<double, 3> max{};
   std::array<double, 3> center{};   // circle / sphere
@@ -93,14 +101,23 @@ struct Shape {
 };
 
 enum class ParticleKind : int { fluid = 0, wall = 1, structure = 2 };
+constexpr EnumName<ParticleKind> kParticleKindNames[] = {
+    {ParticleKind::fluid, "fluid"}, {ParticleKind::wall, "wall"}, {ParticleKind::structure, "structure"}};
+constexpr std::span<const EnumName<ParticleKind>> enum_names(ParticleKind) { return kParticleKindNames; }
 
 // A material. "saint_venant_kirchhoff" (structures) needs youngs_modulus (or bulk_modulus) and
 // poisson_ratio; "newtonian" (fluids) needs viscosity and takes no elastic keys.
+enum class MaterialModel { saint_venant_kirchhoff, newtonian };
+constexpr EnumName<MaterialModel> kMaterialModelNames[] = {
+    {MaterialModel::saint_venant_kirchhoff, "saint_venant_kirchhoff"}, {MaterialModel::newtonian, "newtonian"}};
+constexpr std::span<const EnumName<MaterialModel>> enum_names(MaterialModel) { return kMaterialModelNames; }
+
 struct MaterialSpec {
   std::string name;
-  std::string model = "saint_venant_kirchhoff";  // saint_venant_kirchhoff | newtonian
+  MaterialModel model = MaterialModel::saint_venant_kirchhoff;
   double density = 0.0;                           // [kg/m^3], > 0
   double youngs_modulus = 0.0;                    // [Pa], > 0 (or derived from bulk_modulus)
+  double bulk_modulus = 0.0;                      // [Pa], when given instead of youngs_modulus (0: not given)
   double poisson_ratio = 0.0;                     // in (-1, 0.5)
   PlaneCondition plane = PlaneCondition::strain;  // 2D only
   double viscosity = 0.0;                         // newtonian: kinematic viscosity [m^2/s], > 0
@@ -147,14 +164,15 @@ struct BodySpec {
   bool operator==(const BodySpec&) const = default;
 };
 
-// An applied load. "edge" and "point": a total force shared equally by the body's particles inside
-// `region` ("point" takes the single particle nearest region.center). "traction": a force per unit
-// area on each particle inside `region`, times its cell's face dx^(D-1). "body": an acceleration on
-// every particle of the body. Loads ramp linearly from 0 to full over ramp_time (0 = at once).
+// An applied load. "edge": a total force shared equally by the body's particles inside `region`;
+// "point": the force on the single particle nearest `point`. "traction": a force per unit area on each
+// particle inside `region`, times its cell's face dx^(D-1). "body": an acceleration on every particle
+// of the body. Loads ramp linearly from 0 to full over ramp_time (0 = at once).
 struct LoadSpec {
   LoadType type = LoadType::edge;
   std::string body;
-  Shape region;                              // edge, traction: region; point: region.center is used
+  Shape region;                              // edge, traction
+  std::array<double, 3> point{};             // point
   std::array<double, 3> force{};             // edge/point: total force [N per unit depth in 2D]
   std::array<double, 3> traction{};          // traction: force per unit area of the loaded face [Pa]
   std::array<double, 3> acceleration{};      // body: [m/s^2]
@@ -274,11 +292,12 @@ struct CouplingSpec {
 };
 
 // Periodic axes: particles leaving [lo, hi) re-enter on the other side and neighbours are found
-// across the boundary. Unused axes have lo == hi == 0.
+// across the boundary. range[k] is [lo, hi] on a periodic axis, empty on the others.
 struct PeriodicSpec {
-  std::array<bool, 3> axis{false, false, false};
-  std::array<double, 3> lo{};
-  std::array<double, 3> hi{};
+  std::array<std::vector<double>, 3> range;
+  bool axis(int k) const { return range[k].size() == 2; }
+  double lo(int k) const { return axis(k) ? range[k][0] : 0.0; }
+  double hi(int k) const { return axis(k) ? range[k][1] : 0.0; }
   bool operator==(const PeriodicSpec&) const = default;
 };
 

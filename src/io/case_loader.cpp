@@ -19,6 +19,7 @@
 #include <utility>
 
 #include "io/case_schema.hpp"
+#include "io/list_schema.hpp"
 #include "poisson/linear_solver.hpp"
 
 namespace isph {
@@ -87,6 +88,7 @@ struct Context {
   std::string file;
   int dimension = 2;  // read first; vectors have this many components
   std::vector<std::string> problems;
+  std::set<std::string> unknown_model;  // materials whose model was refused: their bodies are not judged
 
   void problem(const std::string& key, const std::string& reason) {
     problems.push_back(file + ": " + key + ": " + reason);
@@ -235,42 +237,6 @@ bool convert(const toml::value& v, const std::string& path, Context& ctx, T& out
 // Checked reads
 // ---------------------------------------------------------------------------------------------
 
-bool read_positive(Table& t, const std::string& key, double& out, Need need = Need::optional) {
-  if (!t.read(key, out, need)) return false;
-  if (out > 0.0) return true;
-  t.problem(key, "must be > 0 (got " + shortest_number(out) + ")");
-  return false;
-}
-
-void read_non_negative(Table& t, const std::string& key, double& out) {
-  if (t.read(key, out) && out < 0.0) t.problem(key, "must be >= 0 (got " + shortest_number(out) + ")");
-}
-
-// Returns whether `out` holds a valid choice: the one read, or the default when the key is optional
-// and absent.
-bool read_choice(Table& t, const std::string& key, std::string& out, const Choices& allowed,
-                 Need need = Need::optional) {
-  std::string value;
-  if (!t.read(key, value, need)) return need == Need::optional && !t.has(key);
-  if (std::find(allowed.begin(), allowed.end(), value) == allowed.end()) {
-    t.problem(key, one_of(allowed) + " (got " + toml_string(value) + ")");
-    return false;
-  }
-  out = value;
-  return true;
-}
-
-// The same for an enumeration's names (core/enum_names.hpp).
-template <class E>
-bool read_enum(Table& t, const std::string& key, E& out, Need need = Need::optional) {
-  Choices allowed;
-  for (const auto& entry : enum_names(E{})) allowed.emplace_back(entry.name);
-  std::string name = name_of(out);
-  if (!read_choice(t, key, name, allowed, need)) return false;
-  out = *enum_from_name<E>(name);
-  return true;
-}
-
 // A key that is not allowed here (given the values read before it): reported, and not read.
 void reject(Table& t, const std::string& key, const std::string& reason) {
   if (!t.has(key)) return;
@@ -278,60 +244,124 @@ void reject(Table& t, const std::string& key, const std::string& reason) {
   t.problem(key, reason);
 }
 
-// A direction: any non-zero vector, stored normalized.
-void read_direction(Table& t, const std::string& key, Vec3& out) {
-  Vec3 d{};
-  if (!t.read(key, d)) return;
-  const double norm = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-  if (norm == 0.0) {
-    t.problem(key, "must not be the zero vector");
-    return;
+// ---------------------------------------------------------------------------------------------
+// The lists' elements: read from their declared keys (list_schema.hpp), then each one's cross-key rules
+// ---------------------------------------------------------------------------------------------
+
+// A value key: read into a copy, checked (bounds, a direction's length), then stored. Returns whether the
+// file gave a valid value.
+template <class T, class Item>
+bool read_value(Table& t, const ListKey<Item>& key, T& target, Need need) {
+  T value = target;
+  if (!t.read(key.name, value, need)) return false;
+  if constexpr (std::is_same_v<T, double>) {
+    if (!key.bounds.admits(value)) {
+      t.problem(key.name, "must be " + key.bounds.text(false) + " (got " + shortest_number(value) + ")");
+      return false;
+    }
   }
-  for (auto& c : d) c /= norm;
-  out = d;
+  if constexpr (std::is_same_v<T, Vec3>) {
+    if (key.direction) {
+      const double norm = std::sqrt(value[0] * value[0] + value[1] * value[1] + value[2] * value[2]);
+      if (norm == 0.0) {
+        t.problem(key.name, "must not be the zero vector");
+        return false;
+      }
+      // A unit vector stays as given: normalizing it again could change its last bits, and the resolved
+      // case must load back to the same case.
+      if (std::abs(norm - 1.0) > 4 * std::numeric_limits<double>::epsilon())
+        for (auto& c : value) c /= norm;
+    }
+  }
+  target = std::move(value);
+  return true;
 }
 
-// ---------------------------------------------------------------------------------------------
-// The schema (see case.hpp and docs/CASES.md)
-// ---------------------------------------------------------------------------------------------
+// A choice key: one of the names the dimension offers.
+template <class Item>
+bool read_name(Table& t, const ListKey<Item>& key, Item& item, Need need) {
+  std::string name;
+  if (!t.read(key.name, name, need)) return false;
+  if (std::find(key.choices.begin(), key.choices.end(), name) == key.choices.end()) {
+    t.problem(key.name, one_of(key.choices_in ? key.choices_in(t.ctx().dimension) : key.choices) + " (got " +
+                            toml_string(name) + ")");
+    return false;
+  }
+  key.set_name(item, name);
+  return true;
+}
 
-bool is_ball(const std::string& type) { return type == "circle" || type == "sphere"; }
-
-// Each dimension has its own pair of shape types; one of the other dimension gets a pointed message.
-bool check_shape_type(Table& t, const std::string& type) {
-  const bool planar = t.ctx().dimension == 2;
-  const Choices mine = planar ? Choices{"rectangle", "circle"} : Choices{"box", "sphere"};
-  const Choices theirs = planar ? Choices{"box", "sphere"} : Choices{"rectangle", "circle"};
-  const auto in = [&type](const Choices& choices) {
-    return std::find(choices.begin(), choices.end(), type) != choices.end();
-  };
-  if (in(mine)) return true;
-  if (in(theirs))
-    t.problem("type", toml_string(type) + " is a " + (planar ? "3D" : "2D") +
-                          " shape, but dimension = " + std::to_string(t.ctx().dimension) + "; " + one_of(mine));
-  else
-    t.problem("type", one_of(mine) + " (got " + toml_string(type) + ")");
-  return false;
+// Reads an element's declared keys in their order. A key not for this element (given the keys before
+// it and the dimension) is reported if the file gives it; a bad value is reported and leaves the
+// default; after a missing or bad discriminator (a type, a model) the other keys are not judged.
+// Returns the keys read, or nothing when a discriminator stopped the reading.
+template <class Item>
+std::optional<std::set<std::string>> read_item(Table& t, Item& item, const std::vector<ListKey<Item>>& keys) {
+  const int d = t.ctx().dimension;
+  std::set<std::string> read;
+  for (const auto& key : keys) {
+    if (key.applies && !key.applies(item, d)) {
+      reject(t, key.name, key.not_for(item, d));
+      continue;
+    }
+    if (key.preset) key.preset(item, d);
+    const Need need = key.required && key.required(item) ? Need::required : Need::optional;
+    const Item before = item;
+    bool ok = key.set_name ? read_name(t, key, item, need)
+                           : std::visit([&](auto* field) { return read_value(t, key, *field, need); }, key.field(item));
+    if (ok && key.check) {
+      if (const std::string problem = key.check(item, d); !problem.empty()) {
+        t.problem(key.name, problem);
+        item = before;
+        ok = false;
+      }
+    }
+    if (ok) read.insert(key.name);
+    if (!ok && key.discriminator && (need == Need::required || t.has(key.name))) {
+      t.ignore_rest();
+      return std::nullopt;
+    }
+  }
+  return read;
 }
 
 void read_fields(Table& t, Shape& s) {
-  if (!t.read("type", s.type, Need::required) || !check_shape_type(t, s.type)) {
-    t.ignore_rest();
-    return;
-  }
-  if (is_ball(s.type)) {
-    t.read("center", s.center, Need::required);
-    read_positive(t, "radius", s.radius, Need::required);
-    return;
-  }
-  const bool have_min = t.read("min", s.min, Need::required);
-  if (!t.read("max", s.max, Need::required) || !have_min) return;
+  const auto read = read_item(t, s, shape_keys());
+  if (!read || is_ball(s.type) || !read->count("min") || !read->count("max")) return;
   for (int k = 0; k < t.ctx().dimension; ++k) {
     if (s.min[k] < s.max[k]) continue;
     t.problem("max", "must be > min in every component (component " + std::to_string(k) + ": min " +
                          shortest_number(s.min[k]) + ", max " + shortest_number(s.max[k]) + ")");
     return;
   }
+}
+
+void read_fields(Table& t, InitialVelocitySpec& v) { read_item(t, v, initial_velocity_keys()); }
+void read_fields(Table& t, MotionSpec& m) { read_item(t, m, motion_keys()); }
+void read_fields(Table& t, LoadSpec& l) { read_item(t, l, load_keys()); }
+void read_fields(Table& t, ProbeSpec& p) { read_item(t, p, probe_keys()); }
+void read_fields(Table& t, PeriodicSpec& p) { read_item(t, p, periodic_keys()); }
+
+// Exactly one of youngs_modulus and bulk_modulus K; from K, E = 3K(1 - 2 nu). An unknown model leaves the
+// material's bodies unjudged (check_material_model).
+void read_fields(Table& t, MaterialSpec& m) {
+  const auto read = read_item(t, m, material_keys());
+  if (!read) {
+    t.ctx().unknown_model.insert(m.name);
+    return;
+  }
+  if (m.model != MaterialModel::saint_venant_kirchhoff) return;
+  const bool has_e = t.has("youngs_modulus"), has_k = t.has("bulk_modulus");
+  if (has_e == has_k)
+    t.problem("youngs_modulus",
+              has_e ? "give youngs_modulus or bulk_modulus, not both" : "missing required key (or give bulk_modulus)");
+  else if (read->count("bulk_modulus"))
+    m.youngs_modulus = 3.0 * m.bulk_modulus * (1.0 - 2.0 * m.poisson_ratio);
+}
+
+void read_fields(Table& t, BodySpec& b) {
+  read_item(t, b, body_keys());
+  if (t.has("dx") && t.has("refinement")) t.problem("dx", "give the body's spacing as dx or as refinement, not both");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -451,244 +481,6 @@ void read_settings(Table& t, CaseSpec& c, const std::string& section) {
   if (section == "fluid.wcsph") check_wcsph(t, c);
 }
 
-// Each axis: [lo, hi] with hi > lo.
-void read_fields(Table& t, PeriodicSpec& p) {
-  static const char* const kAxes[] = {"x", "y", "z"};
-  for (int k = 0; k < 3; ++k) {
-    const std::string key = kAxes[k];
-    if (k >= t.ctx().dimension) {
-      reject(t, key, "only in 3D (dimension = " + std::to_string(t.ctx().dimension) + ")");
-      continue;
-    }
-    std::vector<double> range;
-    if (!t.read(key, range)) continue;
-    if (range.size() != 2) {
-      t.problem(key, "expected 2 numbers [lo, hi], got " + std::to_string(range.size()));
-      continue;
-    }
-    if (!(range[1] > range[0])) {
-      t.problem(key, "hi must be > lo (got [" + shortest_number(range[0]) + ", " + shortest_number(range[1]) + "])");
-      continue;
-    }
-    p.axis[k] = true;
-    p.lo[k] = range[0];
-    p.hi[k] = range[1];
-  }
-}
-
-// Poisson's ratio of a stable isotropic solid lies in (-1, 0.5); at 0.5 (incompressible) the bulk
-// modulus and the P-wave speed are infinite.
-void read_poisson_ratio(Table& t, double& nu) {
-  if (!t.read("poisson_ratio", nu, Need::required)) return;
-  if (!(nu > -1.0)) t.problem("poisson_ratio", "must be > -1 (got " + shortest_number(nu) + ")");
-  if (!(nu < 0.5)) t.problem("poisson_ratio", "must be < 0.5 (got " + shortest_number(nu) + ")");
-}
-
-// Exactly one of youngs_modulus and bulk_modulus K; from K, E = 3K(1 - 2 nu).
-void read_stiffness(Table& t, MaterialSpec& m) {
-  const bool has_e = t.has("youngs_modulus");
-  const bool has_k = t.has("bulk_modulus");
-  if (has_e == has_k) {
-    t.ignore("youngs_modulus");
-    t.ignore("bulk_modulus");
-    t.problem("youngs_modulus", has_e ? "give youngs_modulus or bulk_modulus, not both"
-                                      : "missing required key (or give bulk_modulus)");
-    return;
-  }
-  if (has_e) {
-    read_positive(t, "youngs_modulus", m.youngs_modulus);
-    return;
-  }
-  double bulk_modulus = 0.0;
-  if (read_positive(t, "bulk_modulus", bulk_modulus))
-    m.youngs_modulus = 3.0 * bulk_modulus * (1.0 - 2.0 * m.poisson_ratio);
-}
-
-void read_fields(Table& t, MaterialSpec& m) {
-  t.read("name", m.name, Need::required);
-  if (!read_choice(t, "model", m.model, {"saint_venant_kirchhoff", "newtonian"})) {
-    m.model.clear();  // unknown: the other keys cannot be judged, nor the bodies that use it
-    t.ignore_rest();
-    return;
-  }
-  read_positive(t, "density", m.density, Need::required);
-  if (m.model == "newtonian") {
-    read_positive(t, "viscosity", m.viscosity, Need::required);
-    for (const char* key : {"youngs_modulus", "bulk_modulus", "poisson_ratio", "plane"})
-      reject(t, key, "only for saint_venant_kirchhoff (model = \"newtonian\")");
-    return;
-  }
-  reject(t, "viscosity", "only for newtonian (model = \"saint_venant_kirchhoff\")");
-  read_poisson_ratio(t, m.poisson_ratio);
-  read_stiffness(t, m);
-  if (t.ctx().dimension == 2) {
-    read_enum(t, "plane", m.plane);
-  } else if (t.has("plane")) {
-    t.ignore("plane");
-    t.problem("plane", "only used in 2D (dimension = 3)");
-  }
-}
-
-void read_fields(Table& t, InitialVelocitySpec& v) {
-  if (!read_enum(t, "type", v.type)) {
-    t.ignore_rest();
-    return;
-  }
-  if (v.type == InitialVelocityType::uniform) {
-    t.read("value", v.value, Need::required);
-  } else if (v.type == InitialVelocityType::cantilever_mode) {
-    read_positive(t, "kL", v.kL);
-    t.read("tip_velocity", v.tip_velocity, Need::required);
-    read_positive(t, "length", v.length, Need::required);
-    t.read("root", v.root);
-    read_direction(t, "axis", v.axis);
-    read_direction(t, "direction", v.direction);
-  }
-}
-
-void read_fields(Table& t, MotionSpec& m) {
-  if (!read_enum(t, "type", m.type, Need::required)) {
-    t.ignore_rest();
-    return;
-  }
-  if (m.type == MotionType::none) return;
-  if (m.type == MotionType::constant_velocity) {
-    t.read("velocity", m.velocity, Need::required);
-    return;
-  }
-  if (m.type == MotionType::translation) {
-    read_direction(t, "direction", m.direction);
-  } else if (t.ctx().dimension != 2) {
-    t.problem("type", "\"rotation\" is only for dimension = 2 (dimension = " + std::to_string(t.ctx().dimension) + ")");
-    t.ignore_rest();
-    return;
-  } else {
-    t.read("pivot", m.pivot, Need::required);
-  }
-  if (!read_enum(t, "profile", m.profile, Need::required)) {
-    t.ignore_rest();
-    return;
-  }
-  if (m.profile == MotionLaw::polynomial) {
-    if (t.read("coefficients", m.coefficients, Need::required) && m.coefficients.empty())
-      t.problem("coefficients", "must not be empty");
-    read_non_negative(t, "until", m.until);
-  } else if (m.profile == MotionLaw::sine) {
-    t.read("amplitude", m.amplitude, Need::required);
-    read_positive(t, "period", m.period, Need::required);
-    t.read("phase", m.phase);
-  } else {
-    t.read("file", m.file, Need::required);
-  }
-}
-
-constexpr std::pair<const char*, ParticleKind> kKinds[] = {
-    {"fluid", ParticleKind::fluid}, {"wall", ParticleKind::wall}, {"structure", ParticleKind::structure}};
-
-std::string kind_name(ParticleKind kind) {
-  for (const auto& [name, k] : kKinds)
-    if (k == kind) return name;
-  return "";
-}
-
-ParticleKind kind_from_name(const std::string& name) {
-  for (const auto& [n, kind] : kKinds)
-    if (name == n) return kind;
-  return ParticleKind::structure;
-}
-
-// The lattice is anchored at the lower corner of the shape's bounding box.
-Vec3 default_lattice_origin(const Shape& s, int dimension) {
-  if (!is_ball(s.type)) return s.min;
-  Vec3 origin{};
-  for (int k = 0; k < dimension; ++k) origin[k] = s.center[k] - s.radius;
-  return origin;
-}
-
-void read_fields(Table& t, BodySpec& b) {
-  t.read("name", b.name, Need::required);
-  std::string kind = kind_name(b.kind);
-  if (read_choice(t, "kind", kind, {"fluid", "wall", "structure"})) b.kind = kind_from_name(kind);
-  const bool wall = b.kind == ParticleKind::wall;
-  const std::string kind_is = "kind = " + toml_string(kind_name(b.kind));
-  // Structures need an elastic material and fluids a newtonian one (check_lists); walls may name one.
-  t.read("material", b.material, wall ? Need::optional : Need::required);
-  t.read("shape", b.shape, Need::required);
-  if (b.kind == ParticleKind::structure) {
-    t.read("clamps", b.clamps);
-    if (t.read("refinement", b.refinement) && !(b.refinement >= 1.0 && b.refinement <= 16.0))
-      t.problem("refinement",
-                "must be in [1, 16]: the structure's spacing is dx / refinement, finer than the "
-                "water's or equal (got " +
-                    shortest_number(b.refinement) + ")");
-    if (read_positive(t, "dx", b.dx) && t.has("refinement"))
-      t.problem("dx", "give the body's spacing as dx or as refinement, not both");
-  } else {
-    reject(t, "clamps", "only for kind = \"structure\" (" + kind_is + ")");
-    reject(t, "refinement", "only for kind = \"structure\"; fluid and walls take the case's dx (" + kind_is + ")");
-    reject(t, "dx", "only for kind = \"structure\"; fluid and walls take the case's dx (" + kind_is + ")");
-  }
-  b.lattice_origin = default_lattice_origin(b.shape, t.ctx().dimension);
-  t.read("lattice_origin", b.lattice_origin);
-  if (t.read("lattice_offset", b.lattice_offset))
-    for (int k = 0; k < t.ctx().dimension; ++k)
-      if (!(b.lattice_offset[k] >= 0.0 && b.lattice_offset[k] < 1.0)) {
-        t.problem("lattice_offset", "every component must be in [0, 1), in units of the body's spacing (got " +
-                                        shortest_number(b.lattice_offset[k]) + " in component " + std::to_string(k) +
-                                        ")");
-        break;
-      }
-  if (wall) {
-    reject(t, "initial_velocity", "not for kind = \"wall\" (use motion)");
-  } else if (t.read("initial_velocity", b.initial_velocity) && b.kind == ParticleKind::fluid &&
-             b.initial_velocity.type == InitialVelocityType::cantilever_mode) {
-    t.problem("initial_velocity",
-              "type \"cantilever_mode\" is only for kind = \"structure\"; "
-              "a fluid takes \"none\" or \"uniform\"");
-  }
-  if (b.kind == ParticleKind::fluid)
-    reject(t, "motion", "only for kind = \"wall\" or \"structure\" (" + kind_is + "; see initial_velocity)");
-  else
-    t.read("motion", b.motion);
-}
-
-void read_fields(Table& t, LoadSpec& l) {
-  if (!read_enum(t, "type", l.type, Need::required)) {
-    t.ignore_rest();
-    return;
-  }
-  t.read("body", l.body, Need::required);
-  if (l.type == LoadType::edge) {
-    t.read("region", l.region, Need::required);
-    t.read("force", l.force, Need::required);
-  } else if (l.type == LoadType::traction) {
-    t.read("region", l.region, Need::required);
-    t.read("traction", l.traction, Need::required);
-  } else if (l.type == LoadType::point) {
-    // A point load is given by `point`; it is kept as the centre of a "point" region.
-    l.region.type = "point";
-    t.read("point", l.region.center, Need::required);
-    t.read("force", l.force, Need::required);
-  } else {
-    t.read("acceleration", l.acceleration, Need::required);
-  }
-  read_non_negative(t, "ramp_time", l.ramp_time);
-}
-
-// Probe names become column names and file names.
-bool is_identifier(const std::string& s) {
-  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
-  });
-}
-
-void read_fields(Table& t, ProbeSpec& p) {
-  if (t.read("name", p.name, Need::required) && !is_identifier(p.name))
-    t.problem("name", "must match [A-Za-z0-9_]+ (got " + toml_string(p.name) + ")");
-  read_enum(t, "type", p.type);
-  t.read("point", p.point, p.type == ProbeType::max_speed ? Need::optional : Need::required);
-}
-
 void read_fields(Table& t, CaseSpec& c) {
   read_settings(t, c, "");
   t.read("periodic", c.periodic);
@@ -731,13 +523,14 @@ void check_reference(const std::string& name, const std::vector<Spec>& items, co
 // A structure needs an elastic material, a fluid a newtonian one.
 void check_material_model(const BodySpec& b, const std::vector<MaterialSpec>& materials,
                           const std::string& path, Context& ctx) {
-  if (b.kind == ParticleKind::wall) return;
-  const std::string needed = b.kind == ParticleKind::fluid ? "newtonian" : "saint_venant_kirchhoff";
+  if (b.kind == ParticleKind::wall || ctx.unknown_model.count(b.material)) return;
+  const MaterialModel needed =
+      b.kind == ParticleKind::fluid ? MaterialModel::newtonian : MaterialModel::saint_venant_kirchhoff;
   for (const auto& m : materials) {
     if (m.name != b.material) continue;
-    if (!m.model.empty() && m.model != needed)  // empty: an unknown model, reported already
-      ctx.problem(path, "material " + toml_string(m.name) + " has model = " + toml_string(m.model) + ", but a " +
-                            kind_name(b.kind) + " body needs model = " + toml_string(needed));
+    if (m.model != needed)
+      ctx.problem(path, "material " + toml_string(m.name) + " has model = " + toml_string(name_of(m.model)) +
+                            ", but a " + name_of(b.kind) + " body needs model = " + toml_string(name_of(needed)));
     return;  // a duplicate name is reported already
   }
 }
@@ -963,127 +756,11 @@ std::optional<std::string> apply_override(toml::value& doc, const std::string& t
 // The resolved configuration, as TOML
 // ---------------------------------------------------------------------------------------------
 
-std::string toml_vector(const Vec3& v, int dimension) {
-  std::vector<std::string> items;
-  for (int k = 0; k < dimension; ++k) items.push_back(toml_float(v[k]));
-  return "[" + join(items, ", ") + "]";
-}
-
-std::string inline_table(const std::vector<std::pair<std::string, std::string>>& entries) {
-  std::vector<std::string> items;
-  for (const auto& [key, value] : entries) items.push_back(key + " = " + value);
-  return "{ " + join(items, ", ") + " }";
-}
-
-std::string toml_shape(const Shape& s, int dimension) {
-  if (is_ball(s.type))
-    return inline_table({{"type", toml_string(s.type)},
-                         {"center", toml_vector(s.center, dimension)},
-                         {"radius", toml_float(s.radius)}});
-  return inline_table(
-      {{"type", toml_string(s.type)}, {"min", toml_vector(s.min, dimension)}, {"max", toml_vector(s.max, dimension)}});
-}
-
-std::string toml_velocity(const InitialVelocitySpec& v, int dimension) {
-  const std::string type = toml_string(name_of(v.type));
-  if (v.type == InitialVelocityType::uniform)
-    return inline_table({{"type", type}, {"value", toml_vector(v.value, dimension)}});
-  if (v.type == InitialVelocityType::cantilever_mode)
-    return inline_table({{"type", type},
-                         {"kL", toml_float(v.kL)},
-                         {"tip_velocity", toml_float(v.tip_velocity)},
-                         {"length", toml_float(v.length)},
-                         {"root", toml_vector(v.root, dimension)},
-                         {"axis", toml_vector(v.axis, dimension)},
-                         {"direction", toml_vector(v.direction, dimension)}});
-  return inline_table({{"type", type}});
-}
-
-std::string toml_motion(const MotionSpec& m, int dimension) {
-  std::vector<std::pair<std::string, std::string>> entries{{"type", toml_string(name_of(m.type))}};
-  if (m.type == MotionType::constant_velocity) entries.emplace_back("velocity", toml_vector(m.velocity, dimension));
-  if (m.type == MotionType::translation) entries.emplace_back("direction", toml_vector(m.direction, dimension));
-  if (m.type == MotionType::rotation) entries.emplace_back("pivot", toml_vector(m.pivot, dimension));
-  if (m.type == MotionType::translation || m.type == MotionType::rotation) {
-    entries.emplace_back("profile", toml_string(name_of(m.profile)));
-    if (m.profile == MotionLaw::polynomial) {
-      std::vector<std::string> items;
-      for (double c : m.coefficients) items.push_back(toml_float(c));
-      entries.emplace_back("coefficients", "[" + join(items, ", ") + "]");
-      entries.emplace_back("until", toml_float(m.until));
-    } else if (m.profile == MotionLaw::sine) {
-      entries.emplace_back("amplitude", toml_float(m.amplitude));
-      entries.emplace_back("period", toml_float(m.period));
-      entries.emplace_back("phase", toml_float(m.phase));
-    } else {
-      entries.emplace_back("file", toml_string(m.file));
-    }
-  }
-  return inline_table(entries);
-}
-
-void write_material(std::ostream& out, const MaterialSpec& m, int dimension) {
-  out << "\n[[materials]]\n"
-      << "name = " << toml_string(m.name) << "\n"
-      << "model = " << toml_string(m.model) << "\n"
-      << "density = " << toml_float(m.density) << "\n";
-  if (m.model == "newtonian") {
-    out << "viscosity = " << toml_float(m.viscosity) << "\n";
-    return;
-  }
-  out << "youngs_modulus = " << toml_float(m.youngs_modulus) << "\n"
-      << "poisson_ratio = " << toml_float(m.poisson_ratio) << "\n";
-  if (dimension == 2) out << "plane = " << toml_string(name_of(m.plane)) << "\n";
-}
-
-void write_body(std::ostream& out, const BodySpec& b, int dimension) {
-  std::vector<std::string> clamps;
-  for (const auto& clamp : b.clamps) clamps.push_back(toml_shape(clamp, dimension));
-  out << "\n[[bodies]]\n"
-      << "name = " << toml_string(b.name) << "\n"
-      << "kind = " << toml_string(kind_name(b.kind)) << "\n";
-  if (!b.material.empty()) out << "material = " << toml_string(b.material) << "\n";
-  out << "shape = " << toml_shape(b.shape, dimension) << "\n";
-  if (b.kind == ParticleKind::structure) out << "clamps = [" << join(clamps, ", ") << "]\n"
-                                              << (b.dx > 0 ? "dx = " + toml_float(b.dx) : "refinement = " + toml_float(b.refinement))
-                                              << "\n";
-  out << "lattice_origin = " << toml_vector(b.lattice_origin, dimension) << "\n";
-  out << "lattice_offset = " << toml_vector(b.lattice_offset, dimension) << "\n";
-  if (b.kind != ParticleKind::wall) out << "initial_velocity = " << toml_velocity(b.initial_velocity, dimension) << "\n";
-  if (b.kind != ParticleKind::fluid) out << "motion = " << toml_motion(b.motion, dimension) << "\n";
-}
-
-void write_load(std::ostream& out, const LoadSpec& l, int dimension) {
-  out << "\n[[loads]]\n"
-      << "type = " << toml_string(name_of(l.type)) << "\n"
-      << "body = " << toml_string(l.body) << "\n";
-  if (l.type == LoadType::edge || l.type == LoadType::traction)
-    out << "region = " << toml_shape(l.region, dimension) << "\n";
-  if (l.type == LoadType::point) out << "point = " << toml_vector(l.region.center, dimension) << "\n";
-  if (l.type == LoadType::body)
-    out << "acceleration = " << toml_vector(l.acceleration, dimension) << "\n";
-  else if (l.type == LoadType::traction)
-    out << "traction = " << toml_vector(l.traction, dimension) << "\n";
-  else
-    out << "force = " << toml_vector(l.force, dimension) << "\n";
-  out << "ramp_time = " << toml_float(l.ramp_time) << "\n";
-}
-
-void write_probe(std::ostream& out, const ProbeSpec& p, int dimension) {
-  out << "\n[[probes]]\n"
-      << "name = " << toml_string(p.name) << "\n"
-      << "type = " << toml_string(name_of(p.type)) << "\n"
-      << "point = " << toml_vector(p.point, dimension) << "\n";
-}
-
-// Only the periodic axes; no table when there are none.
-void write_periodic(std::ostream& out, const PeriodicSpec& p, int dimension) {
-  static const char* const kAxes[] = {"x", "y", "z"};
-  if (std::none_of(p.axis.begin(), p.axis.begin() + dimension, [](bool periodic) { return periodic; }))
-    return;
-  out << "\n[periodic]\n";
-  for (int k = 0; k < dimension; ++k)
-    if (p.axis[k]) out << kAxes[k] << " = [" << toml_float(p.lo[k]) << ", " << toml_float(p.hi[k]) << "]\n";
+// An element of a list, as a table of the array `list` (its keys from list_schema.hpp).
+void write_element(std::ostream& out, const std::string& list,
+                   const std::vector<std::pair<std::string, std::string>>& entries) {
+  out << "\n[[" << list << "]]\n";
+  for (const auto& [key, value] : entries) out << key << " = " << value << "\n";
 }
 
 std::string resolved_toml(const CaseSpec& c) {
@@ -1095,11 +772,14 @@ std::string resolved_toml(const CaseSpec& c) {
     for (const CaseKey& key : case_keys())
       if (key.section == section) out << key.name << " = " << toml_value(key.get(c), d) << "\n";
   }
-  write_periodic(out, c.periodic, d);
-  for (const auto& m : c.materials) write_material(out, m, d);
-  for (const auto& b : c.bodies) write_body(out, b, d);
-  for (const auto& l : c.loads) write_load(out, l, d);
-  for (const auto& p : c.probes) write_probe(out, p, d);
+  if (const auto periodic = periodic_entries(c.periodic, d); !periodic.empty()) {  // only the periodic axes
+    out << "\n[periodic]\n";
+    for (const auto& [key, value] : periodic) out << key << " = " << value << "\n";
+  }
+  for (const auto& m : c.materials) write_element(out, "materials", material_entries(m, d));
+  for (const auto& b : c.bodies) write_element(out, "bodies", body_entries(b, d));
+  for (const auto& l : c.loads) write_element(out, "loads", load_entries(l, d));
+  for (const auto& p : c.probes) write_element(out, "probes", probe_entries(p, d));
   return out.str();
 }
 

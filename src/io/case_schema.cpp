@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "io/list_schema.hpp"
 #include "poisson/linear_solver.hpp"
 
 namespace isph {
@@ -511,14 +512,18 @@ std::string with_key_reference(const std::string& document) {
       throw std::runtime_error("an unclosed \"" + open + "\" block");
     const std::string marked = document.substr(start + open.size(), name_end - start - open.size());
     const std::string section = marked == "top" ? "" : marked;
-    if (std::find(case_sections().begin(), case_sections().end(), section) == case_sections().end())
+    const bool list = std::find(list_tables().begin(), list_tables().end(), section) != list_tables().end();
+    if (!list && std::find(case_sections().begin(), case_sections().end(), section) == case_sections().end())
       throw std::runtime_error("a key block of an unknown section \"" + marked + "\"");
     seen.push_back(section);
-    out += document.substr(at, name_end + 4 - at) + "\n" + key_reference(section) + close;
+    out += document.substr(at, name_end + 4 - at) + "\n" +
+           (list ? list_key_reference(section) : key_reference(section)) + close;
     at = end + close.size();
   }
   out += document.substr(at);
-  for (const std::string& section : case_sections())
+  std::vector<std::string> every = case_sections();
+  every.insert(every.end(), list_tables().begin(), list_tables().end());
+  for (const std::string& section : every)
     if (std::find(seen.begin(), seen.end(), section) == seen.end())
       throw std::runtime_error("no key block for section \"" + (section.empty() ? "top" : section) + "\"");
   return out;

@@ -19,7 +19,7 @@ std::array<double, 3> to_array(const Vec<3>& v) { return {v[0], v[1], v[2]}; }
 template <int D>
 void shape_bounds(const Shape& s, Vec<D>& lo, Vec<D>& hi) {
   for (int d = 0; d < D; ++d) {
-    const bool round = s.type == "circle" || s.type == "sphere";
+    const bool round = is_ball(s.type);
     lo[d] = round ? s.center[d] - s.radius : s.min[d];
     hi[d] = round ? s.center[d] + s.radius : s.max[d];
   }
@@ -164,9 +164,9 @@ template <int D>
 Periodicity<D> periodicity(const PeriodicSpec& p) {
   Periodicity<D> period;
   for (int d = 0; d < D; ++d) {
-    period.axis[d] = p.axis[d];
-    period.lo[d] = p.lo[d];
-    period.length[d] = p.hi[d] - p.lo[d];
+    period.axis[d] = p.axis(d);
+    period.lo[d] = p.lo(d);
+    period.length[d] = p.hi(d) - p.lo(d);
   }
   return period;
 }
@@ -592,7 +592,7 @@ Scene<D> build_scene(const CaseSpec& spec) {
         Real best = std::numeric_limits<Real>::max();
         Index arg = -1;
         for (Index a = 0; a < n; ++a) {
-          const Real d2 = norm2(s.X[a] - to_vec<D>(load.region.center));
+          const Real d2 = norm2(s.X[a] - to_vec<D>(load.point));
           if (s.body[a] == bi && !s.fixed[a] && d2 < best) best = d2, arg = a;
         }
         if (arg >= 0) targets.push_back(arg);

@@ -10,6 +10,7 @@
 
 #include "io/case_loader.hpp"
 #include "io/case_schema.hpp"
+#include "io/list_schema.hpp"
 #include "scratch_dir_test.hpp"
 
 namespace fs = std::filesystem;
@@ -36,6 +37,18 @@ std::string differences(const CaseSpec& a, const CaseSpec& b) {
   part(a.stages == b.stages, "stages");
   part(a.materials == b.materials, "materials");
   part(a.bodies == b.bodies, "bodies");
+  for (std::size_t i = 0; i < std::min(a.bodies.size(), b.bodies.size()); ++i) {
+    const BodySpec &x = a.bodies[i], &y = b.bodies[i];
+    if (x == y) continue;
+    parts += " (bodies[" + std::to_string(i) + "]:";
+    part(x.shape == y.shape, "shape");
+    part(x.clamps == y.clamps, "clamps");
+    part(x.refinement == y.refinement && x.dx == y.dx, "spacing");
+    part(x.lattice_origin == y.lattice_origin && x.lattice_offset == y.lattice_offset, "lattice");
+    part(x.initial_velocity == y.initial_velocity, "initial_velocity");
+    part(x.motion == y.motion, "motion");
+    parts += ")";
+  }
   part(a.loads == b.loads, "loads");
   part(a.probes == b.probes, "probes");
   return parts;
@@ -181,6 +194,177 @@ clamps = [{ type = "box", min = [0, 0, -0.01], max = [0.05, 0.05, 0.01] }]
   EXPECT_EQ(spec.dimension, 3);
   EXPECT_NE(spec.resolved_toml.find("gravity = [0.0, 0.0, -9.81]"), std::string::npos) << spec.resolved_toml;
   expect_round_trip(spec, path);
+}
+
+// Every key of the lists and of the tables inside them (src/io/list_schema.hpp), each given a value that
+// differs from its default in one of two cases (2D and 3D), is written to the resolved case, which
+// loads back to the same case, field by field.
+TEST_F(CaseSchema, EveryListKeyRoundTripsFieldByField) {
+  write("roll.csv", "time, angle\n0, 0\n0.05, 1\n0.2, 2\n");
+  const std::string planar = write("lists.toml", R"(dx = 0.01
+end_time = 0.1
+gravity = [0, -9.81]
+[stages]
+fluid = true
+[periodic]
+x = [-1.0, 2.0]
+y = [-1.5, 3.0]
+[[materials]]
+name = "water"
+model = "newtonian"
+density = 1000
+viscosity = 1e-6
+[[materials]]
+name = "rubber"
+density = 1100
+poisson_ratio = 0.4
+bulk_modulus = 2e7
+plane = "stress"
+[[materials]]
+name = "steel"
+density = 7800
+poisson_ratio = 0.3
+youngs_modulus = 2e11
+[[bodies]]
+name = "water"
+kind = "fluid"
+material = "water"
+shape = { type = "circle", center = [0.5, 0.5], radius = 0.1 }
+initial_velocity = { type = "uniform", value = [0.1, 0.0] }
+[[bodies]]
+name = "beam"
+material = "rubber"
+shape = { type = "rectangle", min = [0, 0], max = [0.2, 0.02] }
+clamps = [{ type = "rectangle", min = [0, 0], max = [0.02, 0.02] }]
+dx = 0.005
+lattice_origin = [0.001, 0.0]
+lattice_offset = [0.0, 0.25]
+initial_velocity = { type = "cantilever_mode", tip_velocity = 0.1, length = 0.2, kL = 4.694, root = [0.0, 0.01], axis = [2.0, 0.0], direction = [0.0, -1.0] }
+motion = { type = "translation", direction = [1.0, 1.0], profile = "sine", amplitude = 0.01, period = 0.5, phase = 0.1 }
+[[bodies]]
+name = "plate"
+material = "steel"
+shape = { type = "rectangle", min = [0.3, 0], max = [0.5, 0.02] }
+clamps = [{ type = "circle", center = [0.3, 0.01], radius = 0.02 }]
+refinement = 2
+motion = { type = "rotation", pivot = [0.3, 0.0], profile = "csv", file = "roll.csv" }
+[[bodies]]
+name = "floor"
+kind = "wall"
+shape = { type = "rectangle", min = [-0.1, -0.03], max = [0.7, 0.0] }
+motion = { type = "constant_velocity", velocity = [0.1, 0.0] }
+[[bodies]]
+name = "gate"
+kind = "wall"
+material = "steel"
+shape = { type = "rectangle", min = [0.6, 0.0], max = [0.63, 0.3] }
+motion = { type = "translation", profile = "polynomial", coefficients = [0.0, 0.1, -0.5], until = 0.05 }
+[[loads]]
+type = "edge"
+body = "beam"
+region = { type = "rectangle", min = [0.19, 0], max = [0.2, 0.02] }
+force = [0, -1]
+ramp_time = 0.01
+[[loads]]
+type = "traction"
+body = "beam"
+region = { type = "rectangle", min = [0.1, 0.015], max = [0.2, 0.02] }
+traction = [0, -100]
+[[loads]]
+type = "point"
+body = "plate"
+point = [0.5, 0.01]
+force = [1, 0]
+[[loads]]
+type = "body"
+body = "plate"
+acceleration = [0, -2]
+[[probes]]
+name = "tip"
+point = [0.2, 0.01]
+[[probes]]
+name = "bottom"
+type = "pressure"
+point = [0.5, 0.45]
+[[probes]]
+name = "fastest"
+type = "max_speed"
+)");
+  const std::string solid = write("lists3d.toml", R"(dimension = 3
+dx = 0.01
+end_time = 0.1
+[periodic]
+z = [-0.5, 0.5]
+[[materials]]
+name = "rubber"
+density = 1100
+youngs_modulus = 1e7
+poisson_ratio = 0.4
+[[bodies]]
+name = "ball"
+material = "rubber"
+shape = { type = "sphere", center = [0, 0, 0], radius = 0.05 }
+clamps = [{ type = "box", min = [-0.05, -0.05, -0.05], max = [0.05, 0.05, -0.03] }]
+)");
+  std::string written;
+  for (const std::string& path : {planar, solid}) {
+    const CaseSpec spec = load_case(path);
+    expect_round_trip(spec, path);
+    written += spec.resolved_toml;
+  }
+  const auto given = [&written](const std::string& key) {
+    for (const std::string before : {"\n", "{ ", ", "})
+      if (written.find(before + key + " = ") != std::string::npos) return true;
+    return false;
+  };
+  const auto expect_every_key_given = [&given](const auto& keys, const std::string& table) {
+    for (const auto& key : keys) EXPECT_TRUE(given(key.name)) << table << "." << key.name << " is never written";
+  };
+  expect_every_key_given(material_keys(), "materials");
+  expect_every_key_given(body_keys(), "bodies");
+  expect_every_key_given(shape_keys(), "shape");
+  expect_every_key_given(initial_velocity_keys(), "initial_velocity");
+  expect_every_key_given(motion_keys(), "motion");
+  expect_every_key_given(load_keys(), "loads");
+  expect_every_key_given(probe_keys(), "probes");
+  expect_every_key_given(periodic_keys(), "periodic");
+}
+
+// A key given where it does not apply is refused with the element's own value in the message.
+TEST_F(CaseSchema, ListKeysOutsideTheirElementsAreRefusedSayingWhy) {
+  const std::string path = write("misplaced.toml", R"(dx = 0.01
+end_time = 0.1
+[[materials]]
+name = "rubber"
+density = 1100
+youngs_modulus = 1e7
+poisson_ratio = 0.4
+[[bodies]]
+name = "beam"
+material = "rubber"
+shape = { type = "rectangle", min = [0, 0], max = [0.2, 0.02], center = [0.1, 0.01] }
+clamps = [{ type = "rectangle", min = [0, 0], max = [0.02, 0.02] }]
+motion = { type = "constant_velocity", velocity = [0.1, 0.0], pivot = [0, 0] }
+initial_velocity = { type = "uniform", value = [1.0, 0.0], kL = 2 }
+[[loads]]
+type = "body"
+body = "beam"
+acceleration = [0, -1]
+force = [0, 1]
+)");
+  try {
+    load_case(path);
+    FAIL() << "misplaced keys loaded";
+  } catch (const CaseError& e) {
+    const std::vector<std::string> expected = {
+        "bodies[0].shape.center: only for type = \"circle\" or \"sphere\" (type = \"rectangle\")",
+        "bodies[0].motion.pivot: only for type = \"rotation\" (type = \"constant_velocity\")",
+        "bodies[0].initial_velocity.kL: only for type = \"cantilever_mode\" (type = \"uniform\")",
+        "loads[0].force: only for type = \"edge\" or \"point\" (type = \"body\")"};
+    EXPECT_EQ(e.problems().size(), expected.size()) << e.what();
+    for (const std::string& problem : expected)
+      EXPECT_NE(std::string(e.what()).find(problem), std::string::npos) << problem << "\nnot in:\n" << e.what();
+  }
 }
 
 // A key's bounds are its message and its documentation.
