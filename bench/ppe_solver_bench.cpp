@@ -125,10 +125,11 @@ int main(int argc, char** argv) {
 
   const bool gpu = cuda_devices() > 0;
   std::vector<SolverSettings> combos;
-  for (const auto& backend : solver_backends()) {
-    if ((backend == "hypre" && !hypre_available()) || (backend == "cuda" && !gpu)) continue;
-    for (const auto& method : solver_methods(backend))
-      for (const auto& pre : solver_preconditioners(backend)) {
+  for (const auto& entry : enum_names(SolverBackend{})) {
+    const SolverBackend backend = entry.value;
+    if ((backend == SolverBackend::hypre && !hypre_available()) || (backend == SolverBackend::cuda && !gpu)) continue;
+    for (const auto method : solver_methods(backend))
+      for (const auto pre : solver_preconditioners(backend)) {
         SolverSettings s;
         s.backend = backend;
         s.method = method;

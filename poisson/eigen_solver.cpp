@@ -63,8 +63,9 @@ std::unique_ptr<Engine> make_engine(const SolverSettings& s) {
 
 template <template <class, class> class Krylov>
 std::unique_ptr<Engine> make_engine_for(const SolverSettings& s) {
-  if (s.preconditioner == "jacobi") return make_engine<Krylov, Eigen::DiagonalPreconditioner<double>>(s);
-  if (s.preconditioner == "ilu") return make_engine<Krylov, Eigen::IncompleteLUT<double, int>>(s);
+  if (s.preconditioner == PreconditionerType::jacobi)
+    return make_engine<Krylov, Eigen::DiagonalPreconditioner<double>>(s);
+  if (s.preconditioner == PreconditionerType::ilu) return make_engine<Krylov, Eigen::IncompleteLUT<double, int>>(s);
   return make_engine<Krylov, Eigen::IdentityPreconditioner>(s);
 }
 
@@ -81,8 +82,8 @@ class EigenSolver final : public KrylovSolverFrame {
     std::copy(A.col.begin(), A.col.end(), A_.innerIndexPtr());
     std::copy(A.val.begin(), A.val.end(), A_.valuePtr());
     b_ = Eigen::Map<const Vec>(b.data(), static_cast<Eigen::Index>(b.size()));
-    engine_ = settings_.method == "gmres" ? make_engine_for<Eigen::GMRES>(settings_)
-                                          : make_engine_for<Eigen::BiCGSTAB>(settings_);
+    engine_ = settings_.method == KrylovMethod::gmres ? make_engine_for<Eigen::GMRES>(settings_)
+                                                      : make_engine_for<Eigen::BiCGSTAB>(settings_);
     return engine_->compute(A_);
   }
 
@@ -108,7 +109,7 @@ class EigenSolver final : public KrylovSolverFrame {
   }
 
   // Eigen's BiCGSTAB stops on ||r|| <= tol ||b||; its GMRES on ||M^-1 r|| <= tol ||M^-1 r_0|| of the pass.
-  bool tolerance_relative_to_initial_residual() const override { return settings_.method == "gmres"; }
+  bool tolerance_relative_to_initial_residual() const override { return settings_.method == KrylovMethod::gmres; }
 
  private:
   SpMat A_;

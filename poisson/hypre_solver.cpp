@@ -97,7 +97,7 @@ class HypreSolver final : public KrylovSolverFrame {
     // Preconditioner.
     HYPRE_PtrToParSolverFcn precond = nullptr, precond_setup = nullptr;
     precond_ = nullptr;
-    if (settings_.preconditioner == "boomeramg") {
+    if (settings_.preconditioner == PreconditionerType::boomeramg) {
       HYPRE_BoomerAMGCreate(&amg_);
       HYPRE_BoomerAMGSetCoarsenType(amg_, 10);         // HMIS
       HYPRE_BoomerAMGSetInterpType(amg_, 6);           // extended+i
@@ -113,7 +113,7 @@ class HypreSolver final : public KrylovSolverFrame {
       precond = HYPRE_BoomerAMGSolve;
       precond_setup = HYPRE_BoomerAMGSetup;
       precond_ = precond;
-    } else if (settings_.preconditioner == "jacobi") {
+    } else if (settings_.preconditioner == PreconditionerType::jacobi) {
       precond = HYPRE_ParCSRDiagScale;
       precond_setup = HYPRE_ParCSRDiagScaleSetup;
     }
@@ -122,7 +122,7 @@ class HypreSolver final : public KrylovSolverFrame {
     make_krylov(precond, precond_setup);
     const HYPRE_Int e = HYPRE_GetError();
     HYPRE_ClearAllErrors();
-    if (e) return "setting up " + settings_.preconditioner + ": " + describe(e);
+    if (e) return "setting up " + name_of(settings_.preconditioner) + ": " + describe(e);
     return "";
   }
 
@@ -195,7 +195,7 @@ class HypreSolver final : public KrylovSolverFrame {
   bool tolerance_relative_to_initial_residual() const override { return false; }
 
  private:
-  bool gmres() const { return settings_.method == "gmres"; }
+  bool gmres() const { return settings_.method == KrylovMethod::gmres; }
 
   // A set-up that keeps the hierarchy as it is (refresh_matrix).
   static HYPRE_Int keep_hierarchy(HYPRE_Solver, HYPRE_ParCSRMatrix, HYPRE_ParVector, HYPRE_ParVector) { return 0; }

@@ -204,10 +204,10 @@ class OwnKrylovSolver final : public KrylovSolverFrame {
  protected:
   std::string setup(const CsrMatrix& A, std::span<const double> b) override {
     using P = typename Bicgstab<Ops>::Preconditioner;
-    const P m = settings_.preconditioner == "jacobi"       ? P::jacobi
-                : settings_.preconditioner == "polynomial" ? P::polynomial
-                : settings_.preconditioner == "amg"        ? P::amg
-                                                           : P::none;
+    const P m = settings_.preconditioner == PreconditionerType::jacobi       ? P::jacobi
+                : settings_.preconditioner == PreconditionerType::polynomial ? P::polynomial
+                : settings_.preconditioner == PreconditionerType::amg        ? P::amg
+                                                                             : P::none;
     ops_.set_matrix(A);
     if (!krylov_ || krylov_->size() != A.rows) {  // work vectors only when the size changes
       krylov_.emplace(ops_, A.rows);

@@ -32,11 +32,13 @@ std::string join(const std::vector<std::string>& v) {
   return s;
 }
 
-void require_one_of(const std::string& option, const std::string& value, const std::vector<std::string>& allowed,
-                    const std::string& context = "") {
+template <class E>
+void require_one_of(const std::string& option, E value, const std::vector<E>& allowed, const std::string& context) {
   if (std::find(allowed.begin(), allowed.end(), value) != allowed.end()) return;
-  throw std::invalid_argument("linear solver: unknown " + option + " '" + value + "'" + context +
-                              " (allowed: " + join(allowed) + ")");
+  std::vector<std::string> names;
+  for (E e : allowed) names.push_back(name_of(e));
+  throw std::invalid_argument("linear solver: " + option + " '" + name_of(value) + "'" + context +
+                              " is not offered (allowed: " + join(names) + ")");
 }
 
 constexpr Index kNone = 0x7fffffff;  // "no such row": the identity of MinOf over row indices
@@ -184,25 +186,17 @@ std::string sci(double v) {
 
 }  // namespace
 
-const std::vector<std::string>& solver_backends() {
-  static const std::vector<std::string> b{"eigen", "hypre", "native", "cuda"};
-  return b;
+const std::vector<KrylovMethod>& solver_methods(SolverBackend backend) {
+  static const std::vector<KrylovMethod> library{KrylovMethod::bicgstab, KrylovMethod::gmres},
+      own{KrylovMethod::bicgstab};
+  return backend == SolverBackend::eigen || backend == SolverBackend::hypre ? library : own;
 }
 
-const std::vector<std::string>& solver_methods(const std::string& backend) {
-  static const std::vector<std::string> library{"bicgstab", "gmres"}, own{"bicgstab"}, none;
-  if (backend == "eigen" || backend == "hypre") return library;
-  if (backend == "native" || backend == "cuda") return own;
-  return none;
-}
-
-const std::vector<std::string>& solver_preconditioners(const std::string& backend) {
-  static const std::vector<std::string> eigen{"ilu", "jacobi", "none"}, hypre{"boomeramg", "jacobi", "none"},
-      own{"jacobi", "polynomial", "amg", "none"}, none;
-  if (backend == "eigen") return eigen;
-  if (backend == "hypre") return hypre;
-  if (backend == "native" || backend == "cuda") return own;
-  return none;
+const std::vector<PreconditionerType>& solver_preconditioners(SolverBackend backend) {
+  using P = PreconditionerType;
+  static const std::vector<P> eigen{P::ilu, P::jacobi, P::none}, hypre{P::boomeramg, P::jacobi, P::none},
+      own{P::jacobi, P::polynomial, P::amg, P::none};
+  return backend == SolverBackend::eigen ? eigen : backend == SolverBackend::hypre ? hypre : own;
 }
 
 bool hypre_available() {
@@ -214,8 +208,7 @@ bool hypre_available() {
 }
 
 std::unique_ptr<LinearSolver> make_linear_solver(const SolverSettings& s) {
-  require_one_of("backend", s.backend, solver_backends());
-  const std::string for_backend = " for backend '" + s.backend + "'";
+  const std::string for_backend = " for backend '" + name_of(s.backend) + "'";
   require_one_of("method", s.method, solver_methods(s.backend), for_backend);
   require_one_of("preconditioner", s.preconditioner, solver_preconditioners(s.backend), for_backend);
   if (!(s.tolerance > 0 && s.tolerance < 1))
@@ -226,15 +219,16 @@ std::unique_ptr<LinearSolver> make_linear_solver(const SolverSettings& s) {
   if (s.gmres_restart < 1)
     throw std::invalid_argument("linear solver: gmres_restart must be at least 1, got " +
                                 std::to_string(s.gmres_restart));
-  if (s.backend == "hypre") {
+  if (s.backend == SolverBackend::hypre) {
     if (!hypre_available())
       throw std::invalid_argument(
           "linear solver: backend 'hypre' was requested but this build has no hypre (ISPH_HAVE_HYPRE is not "
           "defined; install libhypre-dev and libopenmpi-dev and reconfigure, or use backend 'eigen')");
     return detail::make_hypre_solver(s);
   }
-  if (s.backend == "native") return detail::make_native_solver(s);
-  if (s.backend == "cuda") return device_emulated() ? detail::make_debug_device_solver(s) : detail::make_cuda_solver(s);
+  if (s.backend == SolverBackend::native) return detail::make_native_solver(s);
+  if (s.backend == SolverBackend::cuda)
+    return device_emulated() ? detail::make_debug_device_solver(s) : detail::make_cuda_solver(s);
   return detail::make_eigen_solver(s);
 }
 
@@ -267,7 +261,7 @@ KrylovSolverFrame::KrylovSolverFrame(const SolverSettings& settings, Exec exec)
       partial_(work_array(exec)) {}
 
 std::string KrylovSolverFrame::name() const {
-  return settings_.backend + "-" + settings_.method + "-" + settings_.preconditioner;
+  return name_of(settings_.backend) + "-" + name_of(settings_.method) + "-" + name_of(settings_.preconditioner);
 }
 
 SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, std::span<const double> b, std::span<double> x,

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "core/device_memory.hpp"
+#include "core/enum_names.hpp"
 #include "core/parallel.hpp"
 
 namespace isph {
@@ -37,11 +38,34 @@ struct CsrMatrix {
   StateVector<double> val;
 };
 
+// The backends, Krylov methods and preconditioners, by the names a case file gives them.
+enum class SolverBackend { eigen, hypre, native, cuda };
+constexpr EnumName<SolverBackend> kSolverBackendNames[] = {{SolverBackend::eigen, "eigen"},
+                                                           {SolverBackend::hypre, "hypre"},
+                                                           {SolverBackend::native, "native"},
+                                                           {SolverBackend::cuda, "cuda"}};
+constexpr std::span<const EnumName<SolverBackend>> enum_names(SolverBackend) { return kSolverBackendNames; }
+
+enum class KrylovMethod { bicgstab, gmres };
+constexpr EnumName<KrylovMethod> kKrylovMethodNames[] = {{KrylovMethod::bicgstab, "bicgstab"},
+                                                         {KrylovMethod::gmres, "gmres"}};
+constexpr std::span<const EnumName<KrylovMethod>> enum_names(KrylovMethod) { return kKrylovMethodNames; }
+
+enum class PreconditionerType { ilu, jacobi, none, boomeramg, polynomial, amg };
+constexpr EnumName<PreconditionerType> kPreconditionerTypeNames[] = {{PreconditionerType::ilu, "ilu"},
+                                                                     {PreconditionerType::jacobi, "jacobi"},
+                                                                     {PreconditionerType::none, "none"},
+                                                                     {PreconditionerType::boomeramg, "boomeramg"},
+                                                                     {PreconditionerType::polynomial, "polynomial"},
+                                                                     {PreconditionerType::amg, "amg"}};
+constexpr std::span<const EnumName<PreconditionerType>> enum_names(PreconditionerType) {
+  return kPreconditionerTypeNames;
+}
+
 struct SolverSettings {
-  std::string backend = "eigen";       // eigen | hypre | native | cuda
-  std::string method = "bicgstab";     // bicgstab | gmres (eigen, hypre); bicgstab (native, cuda)
-  std::string preconditioner = "ilu";  // eigen: jacobi | ilu | none ; hypre: boomeramg | jacobi | none ;
-                                       // native, cuda: jacobi | polynomial | amg | none
+  SolverBackend backend = SolverBackend::eigen;
+  KrylovMethod method = KrylovMethod::bicgstab;                 // gmres: eigen and hypre only
+  PreconditionerType preconditioner = PreconditionerType::ilu;  // solver_preconditioners(backend)
   double tolerance = 1e-8;             // relative residual ||b - Ax|| / ||b||
   int max_iterations = 1000;           // Krylov iterations in total (over restarts and refinement passes)
   int gmres_restart = 50;              // Krylov subspace dimension of GMRES
@@ -86,16 +110,16 @@ class LinearSolver {
   virtual std::string name() const = 0;  // e.g. "eigen-bicgstab-ilu", "hypre-gmres-boomeramg"
 };
 
-// Throws std::invalid_argument naming the bad option and its allowed values; asking for hypre in a
-// build without it (ISPH_HAVE_HYPRE undefined) is also an std::invalid_argument that says so, and so is
-// asking for cuda in a build without the CUDA backend or on a machine without a visible device.
+// Throws std::invalid_argument naming an option the backend does not offer and the ones it does; asking
+// for hypre in a build without it (ISPH_HAVE_HYPRE undefined) is also an std::invalid_argument that says
+// so, and so is asking for cuda in a build without the CUDA backend or on a machine without a visible
+// device.
 std::unique_ptr<LinearSolver> make_linear_solver(const SolverSettings&);
 
 // What each backend offers: its Krylov methods and its preconditioners, the first being the default
-// (ilu for eigen, boomeramg for hypre, jacobi for native and cuda). An unknown backend has none.
-const std::vector<std::string>& solver_backends();
-const std::vector<std::string>& solver_methods(const std::string& backend);
-const std::vector<std::string>& solver_preconditioners(const std::string& backend);
+// (ilu for eigen, boomeramg for hypre, jacobi for native and cuda).
+const std::vector<KrylovMethod>& solver_methods(SolverBackend backend);
+const std::vector<PreconditionerType>& solver_preconditioners(SolverBackend backend);
 
 // True when this build contains the hypre backend.
 bool hypre_available();

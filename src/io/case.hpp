@@ -217,16 +217,20 @@ struct StructureSpec {
 // BoomerAMG where the build has hypre (3-4 times faster per solve than Eigen's ILUT on the bundled
 // cases, docs/PERFORMANCE.md) with Eigen as its fallback, and Eigen's ILUT otherwise. A case that names
 // a backend gets no fallback unless it names one too.
+enum class FallbackSolver { none, eigen, hypre };
+constexpr EnumName<FallbackSolver> kFallbackSolverNames[] = {
+    {FallbackSolver::none, "none"}, {FallbackSolver::eigen, "eigen"}, {FallbackSolver::hypre, "hypre"}};
+constexpr std::span<const EnumName<FallbackSolver>> enum_names(FallbackSolver) { return kFallbackSolverNames; }
+
 struct PpeSolverSpec {
-  std::string backend = hypre_available() ? "hypre" : "eigen";  // eigen | hypre | native | cuda
-  std::string method = "bicgstab";           // bicgstab | gmres (gmres: eigen and hypre only)
-  std::string preconditioner = hypre_available() ? "boomeramg" : "ilu";
-                                             // eigen: jacobi | ilu | none; hypre: boomeramg | jacobi | none;
-                                             // native, cuda: jacobi | polynomial | none
+  SolverBackend backend = hypre_available() ? SolverBackend::hypre : SolverBackend::eigen;
+  KrylovMethod method = KrylovMethod::bicgstab;  // gmres: eigen and hypre only
+  PreconditionerType preconditioner =            // one of solver_preconditioners(backend)
+      hypre_available() ? PreconditionerType::boomeramg : PreconditionerType::ilu;
   double tolerance = 1e-8;                   // relative residual
   int max_iterations = 1000;
-  std::string fallback = hypre_available() ? "eigen" : "none";  // none | eigen | hypre: a second backend
-                                                                // tried after a failed solve
+  FallbackSolver fallback =  // a second backend tried after a failed solve
+      hypre_available() ? FallbackSolver::eigen : FallbackSolver::none;
   int preconditioner_reuse = 0;              // steps a preconditioner serves the next steps' matrices while
                                              // the particles keep their order (0: a new one every step)
   bool operator==(const PpeSolverSpec&) const = default;

@@ -430,19 +430,23 @@ void check_fluid(Table& t, CaseSpec& c) {
 // backend, and a case that names a backend gets no fallback unless it names one (case.hpp).
 void check_ppe(Table& t, CaseSpec& c) {
   PpeSolverSpec& p = c.fluid.ppe;
-  const Choices& methods = solver_methods(p.backend);
+  const auto names = [](const auto& options) {
+    Choices n;
+    for (const auto o : options) n.push_back(name_of(o));
+    return n;
+  };
+  const std::string with = " is not available with backend = " + toml_string(name_of(p.backend)) + "; ";
+  const auto& methods = solver_methods(p.backend);
   if (std::find(methods.begin(), methods.end(), p.method) == methods.end())
-    t.problem("method", toml_string(p.method) + " is not available with backend = " + toml_string(p.backend) + "; " +
-                            one_of(methods));
-  const Choices& preconditioners = solver_preconditioners(p.backend);
+    t.problem("method", toml_string(name_of(p.method)) + with + one_of(names(methods)));
+  const auto& preconditioners = solver_preconditioners(p.backend);
   if (!t.has("preconditioner"))
     p.preconditioner = preconditioners.front();
   else if (std::find(preconditioners.begin(), preconditioners.end(), p.preconditioner) == preconditioners.end())
-    t.problem("preconditioner", toml_string(p.preconditioner) + " is not available with backend = " +
-                                    toml_string(p.backend) + "; " + one_of(preconditioners));
-  if (t.has("backend") && !t.has("fallback")) p.fallback = "none";
-  if (p.fallback == p.backend)
-    t.problem("fallback", "must differ from backend (both " + toml_string(p.backend) + "), or be \"none\"");
+    t.problem("preconditioner", toml_string(name_of(p.preconditioner)) + with + one_of(names(preconditioners)));
+  if (t.has("backend") && !t.has("fallback")) p.fallback = FallbackSolver::none;
+  if (name_of(p.fallback) == name_of(p.backend))
+    t.problem("fallback", "must differ from backend (both " + toml_string(name_of(p.backend)) + "), or be \"none\"");
 }
 
 // Seed 002 §2.2: the acoustic Courant number defaults to 0.6 with dual-criteria stepping, 0.25 without.

@@ -17,16 +17,6 @@ KeyBounds positive() { return {0, KeyBounds{}.hi, true, true}; }
 KeyBounds non_negative() { return {0}; }
 KeyBounds open_unit() { return {0, 1, true, true}; }
 
-// Every option any PPE backend offers (poisson/linear_solver.hpp), in catalogue order.
-template <class Options>
-std::vector<std::string> any_backend(Options options) {
-  std::vector<std::string> all;
-  for (const std::string& b : solver_backends())
-    for (const std::string& o : options(b))
-      if (std::find(all.begin(), all.end(), o) == all.end()) all.push_back(o);
-  return all;
-}
-
 // A key being declared: its type follows from the member's; the rest is set by chained calls.
 class Declaration {
  public:
@@ -211,17 +201,14 @@ std::vector<CaseKey> declare_keys() {
   add(
       keys, "fluid.ppe", "backend", [](auto& c) -> auto& { return c.fluid.ppe.backend; })
       .default_note(R"d(`"hypre"` in builds with hypre, `"eigen"` otherwise)d")
-      .choices(solver_backends())
       .doc(
           R"d(`"eigen"`, `"hypre"` (only in builds with hypre; the run reports it otherwise), `"native"` (the project's BiCGSTAB on the host), `"cuda"` (the same BiCGSTAB on the GPU with cuSPARSE; needs a build with CUDA and a visible device, the run reports it otherwise))d");
   add(
       keys, "fluid.ppe", "method", [](auto& c) -> auto& { return c.fluid.ppe.method; })
-      .choices(any_backend(solver_methods))
       .doc("gmres: eigen and hypre only");
   add(
       keys, "fluid.ppe", "preconditioner", [](auto& c) -> auto& { return c.fluid.ppe.preconditioner; })
       .default_note(R"d(`"ilu"` for eigen, `"boomeramg"` for hypre, `"jacobi"` for native and cuda)d")
-      .choices(any_backend(solver_preconditioners))
       .doc(
           R"d(eigen: `"jacobi"`, `"ilu"`, `"none"`; hypre: `"boomeramg"`, `"jacobi"`, `"none"`; native, cuda: `"jacobi"`, `"polynomial"` (three damped Jacobi sweeps), `"amg"` (smoothed-aggregation AMG, one V-cycle; docs/SOLVERS.md), `"none"`; another combination is an error)d");
   add(
@@ -236,7 +223,6 @@ std::vector<CaseKey> declare_keys() {
       keys, "fluid.ppe", "fallback", [](auto& c) -> auto& { return c.fluid.ppe.fallback; })
       .default_note(
           R"d(`"eigen"` when `backend` is not given and the build has hypre, `"none"` otherwise (a case that names a backend names its fallback too))d")
-      .choices(std::vector<std::string>{"none", "eigen", "hypre"})
       .doc(
           R"d(`"none"`, `"eigen"`, `"hypre"`: a second backend tried after a failed solve; must differ from `backend`)d");
   add(

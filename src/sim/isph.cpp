@@ -13,7 +13,7 @@ namespace isph {
 
 namespace {
 
-SolverSettings solver_settings(const PpeSolverSpec& s, const std::string& backend) {
+SolverSettings solver_settings(const PpeSolverSpec& s, SolverBackend backend) {
   SolverSettings out;
   out.backend = backend;
   out.method = s.method;
@@ -67,8 +67,9 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
   thresholds_.chi = settings_.surface_threshold > 0 ? settings_.surface_threshold : full - 0.6;
   thresholds_.chi_full = settings_.surface_full > 0 ? settings_.surface_full : full - 0.4;
   solver_ = make_linear_solver(solver_settings(settings_.ppe, settings_.ppe.backend));
-  if (settings_.ppe.fallback != "none")
-    fallback_ = make_linear_solver(solver_settings(settings_.ppe, settings_.ppe.fallback));
+  if (settings_.ppe.fallback != FallbackSolver::none)
+    fallback_ = make_linear_solver(solver_settings(
+        settings_.ppe, settings_.ppe.fallback == FallbackSolver::hypre ? SolverBackend::hypre : SolverBackend::eigen));
   solver_name_ = solver_->name();
 }
 

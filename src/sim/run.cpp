@@ -684,7 +684,9 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
                     "relative residual %.3g (%s)%s",
                     t, step, report.ppe_solver.c_str(), report.ppe.iterations, report.ppe.relative_residual,
                     report.ppe.message.c_str(),
-                    spec.fluid.ppe.fallback == "none" ? "; a fallback solver can be set with fluid.ppe.fallback" : "");
+                    spec.fluid.ppe.fallback == FallbackSolver::none
+                        ? "; a fallback solver can be set with fluid.ppe.fallback"
+                        : "");
       frame.diverge(buf);
     } else if (const Index bad = particles.first_non_finite(); bad >= 0) {
       static const char* const kKindNames[] = {"fluid", "wall", "structure"};

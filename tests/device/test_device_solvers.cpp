@@ -127,41 +127,41 @@ TEST(DeviceSolvers, VectorCsrProductMatchesTheHostProduct) {
 TEST(DeviceSolvers, CudaBicgstabMatchesNativeWithEveryPreconditioner) {
   ISPH_SKIP_WITHOUT_GPU();
   unsigned seed = 21;
-  for (const auto& preconditioner : solver_preconditioners("cuda")) {
+  for (const auto preconditioner : solver_preconditioners(SolverBackend::cuda)) {
     const CsrMatrix A = random_matrix(100, seed);
     const auto x_star = random_vector(A.rows, seed + 1);
     const auto b = host_product(A, x_star);
     ++seed;
     SolverSettings s;
-    s.method = "bicgstab";
+    s.method = KrylovMethod::bicgstab;
     s.preconditioner = preconditioner;
     s.tolerance = 1e-10;
     s.max_iterations = 3000;
-    s.backend = "native";
-    const auto solve = [&](const std::string& backend, int max_iterations, std::vector<double>& x) {
+    s.backend = SolverBackend::native;
+    const auto solve = [&](SolverBackend backend, int max_iterations, std::vector<double>& x) {
       SolverSettings t = s;
       t.backend = backend;
       t.max_iterations = max_iterations;
       return make_linear_solver(t)->solve(A, b, x);
     };
     std::vector<double> early_host, early_device(A.rows, std::nan(""));  // a NaN guess is replaced by zero
-    const auto eh = solve("native", 20, early_host), ed = solve("cuda", 20, early_device);
-    ASSERT_EQ(eh.iterations, 20) << preconditioner;
-    ASSERT_EQ(ed.iterations, 20) << preconditioner;
-    EXPECT_LT(relative_difference(early_device, early_host), 1e-10) << preconditioner;
+    const auto eh = solve(SolverBackend::native, 20, early_host), ed = solve(SolverBackend::cuda, 20, early_device);
+    ASSERT_EQ(eh.iterations, 20) << name_of(preconditioner);
+    ASSERT_EQ(ed.iterations, 20) << name_of(preconditioner);
+    EXPECT_LT(relative_difference(early_device, early_host), 1e-10) << name_of(preconditioner);
 
     std::vector<double> x_host, x_device;
-    const auto rh = solve("native", s.max_iterations, x_host);
-    s.backend = "cuda";
+    const auto rh = solve(SolverBackend::native, s.max_iterations, x_host);
+    s.backend = SolverBackend::cuda;
     auto solver = make_linear_solver(s);
-    EXPECT_EQ(solver->name(), "cuda-bicgstab-" + preconditioner);
+    EXPECT_EQ(solver->name(), "cuda-bicgstab-" + name_of(preconditioner));
     const auto rd = solver->solve(A, b, x_device);
-    ASSERT_TRUE(rh.converged) << preconditioner << ": " << rh.message;
-    ASSERT_TRUE(rd.converged) << preconditioner << ": " << rd.message;
+    ASSERT_TRUE(rh.converged) << name_of(preconditioner) << ": " << rh.message;
+    ASSERT_TRUE(rd.converged) << name_of(preconditioner) << ": " << rd.message;
     EXPECT_LE(std::abs(rd.iterations - rh.iterations), std::max(2, rh.iterations / 10))
-        << preconditioner << ": " << rd.iterations << " on the device, " << rh.iterations << " on the host";
-    EXPECT_LT(relative_difference(x_device, x_host), 1e-8) << preconditioner;
-    EXPECT_LT(relative_difference(x_device, x_star), 1e-7) << preconditioner;
+        << name_of(preconditioner) << ": " << rd.iterations << " on the device, " << rh.iterations << " on the host";
+    EXPECT_LT(relative_difference(x_device, x_host), 1e-8) << name_of(preconditioner);
+    EXPECT_LT(relative_difference(x_device, x_star), 1e-7) << name_of(preconditioner);
 
     // Same matrix, a new right-hand side: the device copy of A is reused, and the answer is A's. (Against
     // the host's answer to b2 the device's differed by 1.3e-8 without a preconditioner on the H200,
@@ -170,8 +170,8 @@ TEST(DeviceSolvers, CudaBicgstabMatchesNativeWithEveryPreconditioner) {
     const auto y_star = random_vector(A.rows, seed + 50);
     const auto b2 = host_product(A, y_star);
     std::vector<double> y_device;
-    ASSERT_TRUE(solver->solve(A, b2, y_device, MatrixReuse::all).converged) << preconditioner;
-    EXPECT_LT(relative_difference(y_device, y_star), 1e-7) << preconditioner;
+    ASSERT_TRUE(solver->solve(A, b2, y_device, MatrixReuse::all).converged) << name_of(preconditioner);
+    EXPECT_LT(relative_difference(y_device, y_star), 1e-7) << name_of(preconditioner);
   }
 }
 
@@ -191,10 +191,10 @@ TEST(DeviceSolvers, CudaSolverOnManagedArraysMatchesTheHost) {
   StateVector<double> b(host_b.begin(), host_b.end(), StateAllocator<double>(true));
   StateVector<double> x(host_b.size(), std::nan(""), StateAllocator<double>(true));  // replaced by zero
   SolverSettings s;
-  s.preconditioner = "amg";
-  s.backend = "cuda";
+  s.preconditioner = PreconditionerType::amg;
+  s.backend = SolverBackend::cuda;
   const SolveReport device = make_linear_solver(s)->solve(A, std::span<const double>(b), std::span<double>(x));
-  s.backend = "native";
+  s.backend = SolverBackend::native;
   std::vector<double> x_host;
   const SolveReport host = make_linear_solver(s)->solve(host_A, host_b, x_host);
   ASSERT_TRUE(device.converged) << device.message;
@@ -204,7 +204,7 @@ TEST(DeviceSolvers, CudaSolverOnManagedArraysMatchesTheHost) {
   EXPECT_LT(device.relative_residual, s.tolerance);
 
   b[5] = std::nan("");
-  s.backend = "cuda";
+  s.backend = SolverBackend::cuda;
   const SolveReport bad = make_linear_solver(s)->solve(A, std::span<const double>(b), std::span<double>(x));
   EXPECT_FALSE(bad.converged);
   EXPECT_NE(bad.message.find("right-hand side has NaN"), std::string::npos) << bad.message;

@@ -36,8 +36,8 @@ std::map<std::pair<int, int>, double> entries(const CsrView& A) {
 
 int solve_iterations(const ManufacturedSystem& m, const std::string& preconditioner) {
   SolverSettings s;
-  s.backend = "native";
-  s.preconditioner = preconditioner;
+  s.backend = SolverBackend::native;
+  s.preconditioner = *enum_from_name<PreconditionerType>(preconditioner);
   s.max_iterations = 3000;
   std::vector<double> x;
   const SolveReport r = make_linear_solver(s)->solve(m.A, m.b, x);
@@ -115,8 +115,8 @@ TEST(AggregationAmg, IterationsBarelyGrowWithTheSize) {
 TEST(AggregationAmg, SameSolutionForAnyThreadCount) {
   const auto m = manufactured_ppe_system(120, 21);
   SolverSettings s;
-  s.backend = "native";
-  s.preconditioner = "amg";
+  s.backend = SolverBackend::native;
+  s.preconditioner = PreconditionerType::amg;
   const int threads = omp_get_max_threads();
   std::vector<std::vector<double>> x(2);
   std::vector<int> iterations;
@@ -134,8 +134,8 @@ TEST(AggregationAmg, SameSolutionForAnyThreadCount) {
 // fresh solver gives.
 TEST(AggregationAmg, ReusedArraysGiveAFreshHierarchysAnswer) {
   SolverSettings s;
-  s.backend = "native";
-  s.preconditioner = "amg";
+  s.backend = SolverBackend::native;
+  s.preconditioner = PreconditionerType::amg;
   auto kept = make_linear_solver(s);
   for (int n : {80, 40, 80, 60}) {
     auto m = manufactured_ppe_system(n, 21);
@@ -153,9 +153,9 @@ TEST(AggregationAmg, ReusedArraysGiveAFreshHierarchysAnswer) {
 // about the iterations of a fresh set-up, while the matrices drift by a few per cent (the PPE of the
 // next steps). The same for hypre's BoomerAMG.
 TEST(AggregationAmg, KeptHierarchySolvesTheNextMatricesAtAboutTheFreshIterations) {
-  for (const auto& [backend, preconditioner] :
-       {std::pair<std::string, std::string>{"native", "amg"}, {"hypre", "boomeramg"}}) {
-    if (backend == "hypre" && !hypre_available()) continue;
+  for (const auto& [backend, preconditioner] : {std::pair{SolverBackend::native, PreconditionerType::amg},
+                                                std::pair{SolverBackend::hypre, PreconditionerType::boomeramg}}) {
+    if (backend == SolverBackend::hypre && !hypre_available()) continue;
     SolverSettings s;
     s.backend = backend;
     s.preconditioner = preconditioner;
@@ -171,10 +171,10 @@ TEST(AggregationAmg, KeptHierarchySolvesTheNextMatricesAtAboutTheFreshIterations
       std::vector<double> x_kept = x, x_fresh = x;
       const SolveReport a = kept->solve(m.A, m.b, x_kept, MatrixReuse::preconditioner);
       const SolveReport b = make_linear_solver(s)->solve(m.A, m.b, x_fresh);
-      ASSERT_TRUE(a.converged) << backend << " step " << step << ": " << a.message;
-      EXPECT_TRUE(kept->kept_preconditioner()) << backend << " step " << step;
+      ASSERT_TRUE(a.converged) << name_of(backend) << " step " << step << ": " << a.message;
+      EXPECT_TRUE(kept->kept_preconditioner()) << name_of(backend) << " step " << step;
       EXPECT_LE(a.relative_residual, 1e-8);
-      EXPECT_LE(a.iterations, b.iterations + 3) << backend << " step " << step;
+      EXPECT_LE(a.iterations, b.iterations + 3) << name_of(backend) << " step " << step;
       x = x_kept;
     }
   }
