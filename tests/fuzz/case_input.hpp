@@ -14,9 +14,10 @@
 
 namespace fuzz {
 
-// Loads the input from files in `dir`: returns normally when load_case returns a case or throws an
-// std::exception (a refusal with a message); anything else escapes.
-inline void load_case_input(std::string_view input, const std::filesystem::path& dir) {
+// Loads the input from files in `dir` (its case file is dir / "case.toml"): returns the problems of a
+// refusal (CaseError), none when it loads, and a single "exception: ..." for any other std::exception;
+// anything else escapes.
+inline std::vector<std::string> case_input_problems(std::string_view input, const std::filesystem::path& dir) {
   std::string toml(input), overrides, csv;
   if (const auto at = toml.find("\n--csv\n"); at != std::string::npos) {
     csv = toml.substr(at + 7);
@@ -33,8 +34,16 @@ inline void load_case_input(std::string_view input, const std::filesystem::path&
   for (std::string line; std::getline(lines, line);) sets.push_back(line);
   try {
     (void)isph::load_case((dir / "case.toml").string(), sets);
-  } catch (const std::exception&) {
+  } catch (const isph::CaseError& e) {
+    return e.problems();
+  } catch (const std::exception& e) {
+    return {std::string("exception: ") + e.what()};
   }
+  return {};
+}
+
+inline void load_case_input(std::string_view input, const std::filesystem::path& dir) {
+  (void)case_input_problems(input, dir);
 }
 
 }  // namespace fuzz
