@@ -408,7 +408,8 @@ Real TlsphSolver<D>::clamped_kinetic_energy() const {
 template <int D>
 Mat<D> TlsphSolver<D>::cauchy_stress(Index a) const {
   const Mat<D>& F = F_[a];
-  return (1.0 / determinant(F)) * (F * svk_stress(green_strain(F), materials_[material_[a]]) * transpose(F));
+  return (1.0 / determinant(F)) *
+         (F * second_piola_stress(F, green_strain(F), materials_[material_[a]]) * transpose(F));
 }
 
 template <int D>

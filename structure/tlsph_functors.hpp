@@ -3,44 +3,11 @@
 // Every loop is a plain-data functor that writes only particle a, so it runs unchanged on the
 // host (OpenMP) and on a CUDA device through parallel_for.
 #include "core/neighbour_search.hpp"
-#include "core/types.hpp"
 #include "core/rigid_motion.hpp"
+#include "core/types.hpp"
+#include "structure/elastic_law.hpp"
 
 namespace isph {
-
-// St. Venant-Kirchhoff constants. In 2D plane stress, lambda is already the plane-stress
-// value 2 lambda mu / (lambda + 2 mu) = E nu / (1 - nu^2).
-struct ElasticMaterial {
-  Real density;
-  Real lambda;
-  Real mu;
-  Real youngs_modulus;
-};
-
-// The linear elastic law C:E = lambda tr(E) I + 2 mu E (also applied to strain gradients below).
-template <int D>
-ISPH_HD inline Mat<D> elastic_stress(const Mat<D>& E, const ElasticMaterial& m) {
-  Mat<D> S = (2 * m.mu) * E;
-  const Real trE = trace(E);
-  for (int i = 0; i < D; ++i) S(i, i) += m.lambda * trE;
-  return S;
-}
-
-template <int D>
-ISPH_HD inline Mat<D> green_strain(const Mat<D>& F) {
-  return 0.5 * (transpose(F) * F - Mat<D>::identity());
-}
-
-// St. Venant-Kirchhoff: from the Green-Lagrange strain E = (F^T F - I)/2 (green_strain), the second
-// Piola-Kirchhoff stress S = C:E and the strain energy density psi = lambda/2 tr(E)^2 + mu E:E.
-template <int D>
-ISPH_HD inline Mat<D> svk_stress(const Mat<D>& E, const ElasticMaterial& m, Real* psi = nullptr) {
-  if (psi) {
-    const Real trE = trace(E);
-    *psi = 0.5 * m.lambda * trE * trE + m.mu * ddot(E, E);
-  }
-  return elastic_stress(E, m);
-}
 
 // Rigid obstacles a structure may touch (the fluid's walls; for_each_wall_overlap): the candidates of
 // particle a are offset[a] .. offset[a + 1] in point and radius.
@@ -150,9 +117,9 @@ struct TlsphHourglass {
   ISPH_HD void operator()(Index a) const { add_hourglass(s, a); }
 };
 
-// Deformation gradient (Eq. 36, written with displacements so that F = I exactly at rest),
-// St. Venant-Kirchhoff stress (svk_stress) and the first Piola-Kirchhoff stress P = F S, the
-// reference-frame stress of Eq. 42.
+// Deformation gradient (Eq. 36, written with displacements so that F = I exactly at rest), the
+// material's second Piola-Kirchhoff stress S (elastic_law.hpp) and the first Piola-Kirchhoff stress
+// P = F S, the reference-frame stress of Eq. 42.
 // With linear-exact pair gradients the hourglass moment and energy come from the same loop: with
 // u_ab = x_ab - X_ab, eps_ab = (F_a - I) X_ab - u_ab, so
 //   H_a = (F_a - I) G_a - sum_b w_ab u_ab ⊗ X_ab,
@@ -181,7 +148,7 @@ struct TlsphStress {
     Real psi = 0;
     const Mat<D> E = green_strain(F);
     const ElasticMaterial m = s.materials[s.material[a]];
-    const Mat<D> S = svk_stress(E, m, &psi);
+    const Mat<D> S = second_piola_stress(F, E, m, &psi);
     s.F[a] = F;
     Mat<D> T = F * S;
     if (hourglass) {
@@ -207,6 +174,7 @@ struct TlsphStress {
 // sum_a R_a : dE_a with
 //   R_a = sum_d [ sum_b (c_ba)_d Q_b,d - (S_a)_d Q_a,d ],   Q_a,d = M_a C:G_a,d,   S_a = sum_b c_ab,
 // so the force (*) holds with the second Piola-Kirchhoff stress S_a + R_a / V_a: T_a += F_a R_a / V_a.
+// C is the linear law's: exact for St. Venant-Kirchhoff, the small-strain tangent for the hyperelastic laws.
 // Two passes after TlsphStress (which stores E_a): the gradient stresses Q, then R into T.
 template <int D>
 struct TlsphStrainGradient {

@@ -105,11 +105,15 @@ constexpr EnumName<ParticleKind> kParticleKindNames[] = {
     {ParticleKind::fluid, "fluid"}, {ParticleKind::wall, "wall"}, {ParticleKind::structure, "structure"}};
 constexpr std::span<const EnumName<ParticleKind>> enum_names(ParticleKind) { return kParticleKindNames; }
 
-// A material. "saint_venant_kirchhoff" (structures) needs youngs_modulus (or bulk_modulus) and
-// poisson_ratio; "newtonian" (fluids) needs viscosity and takes no elastic keys.
-enum class MaterialModel { saint_venant_kirchhoff, newtonian };
+// A material. The elastic models (structures; structure/elastic_law.hpp) need youngs_modulus (or
+// bulk_modulus) and poisson_ratio, their small-strain moduli; "newtonian" (fluids) needs viscosity and
+// takes no elastic keys.
+enum class MaterialModel { saint_venant_kirchhoff, neo_hookean, mooney_rivlin, newtonian };
 constexpr EnumName<MaterialModel> kMaterialModelNames[] = {
-    {MaterialModel::saint_venant_kirchhoff, "saint_venant_kirchhoff"}, {MaterialModel::newtonian, "newtonian"}};
+    {MaterialModel::saint_venant_kirchhoff, "saint_venant_kirchhoff"},
+    {MaterialModel::neo_hookean, "neo_hookean"},
+    {MaterialModel::mooney_rivlin, "mooney_rivlin"},
+    {MaterialModel::newtonian, "newtonian"}};
 constexpr std::span<const EnumName<MaterialModel>> enum_names(MaterialModel) { return kMaterialModelNames; }
 
 struct MaterialSpec {
@@ -119,7 +123,8 @@ struct MaterialSpec {
   double youngs_modulus = 0.0;                    // [Pa], > 0 (or derived from bulk_modulus)
   double bulk_modulus = 0.0;                      // [Pa], when given instead of youngs_modulus (0: not given)
   double poisson_ratio = 0.0;                     // in (-1, 0.5)
-  PlaneCondition plane = PlaneCondition::strain;  // 2D only
+  PlaneCondition plane = PlaneCondition::strain;  // 2D only; stress: St. Venant-Kirchhoff only
+  double c01_fraction = 0.0;                      // Mooney-Rivlin: c01 / (c10 + c01), in [0, 1)
   double viscosity = 0.0;                         // newtonian: kinematic viscosity [m^2/s], > 0
   bool operator==(const MaterialSpec&) const = default;
 };

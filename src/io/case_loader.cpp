@@ -350,7 +350,7 @@ void read_fields(Table& t, MaterialSpec& m) {
     t.ctx().unknown_model.insert(m.name);
     return;
   }
-  if (m.model != MaterialModel::saint_venant_kirchhoff) return;
+  if (m.model == MaterialModel::newtonian) return;
   const bool has_e = t.has("youngs_modulus"), has_k = t.has("bulk_modulus");
   if (has_e == has_k)
     t.problem("youngs_modulus",
@@ -528,13 +528,13 @@ void check_reference(const std::string& name, const std::vector<Spec>& items, co
 void check_material_model(const BodySpec& b, const std::vector<MaterialSpec>& materials,
                           const std::string& path, Context& ctx) {
   if (b.kind == ParticleKind::wall || ctx.unknown_model.count(b.material)) return;
-  const MaterialModel needed =
-      b.kind == ParticleKind::fluid ? MaterialModel::newtonian : MaterialModel::saint_venant_kirchhoff;
+  const bool fluid = b.kind == ParticleKind::fluid;
   for (const auto& m : materials) {
     if (m.name != b.material) continue;
-    if (m.model != needed)
+    if ((m.model == MaterialModel::newtonian) != fluid)
       ctx.problem(path, "material " + toml_string(m.name) + " has model = " + toml_string(name_of(m.model)) +
-                            ", but a " + name_of(b.kind) + " body needs model = " + toml_string(name_of(needed)));
+                            ", but a " + name_of(b.kind) + " body needs " +
+                            (fluid ? "model = \"newtonian\"" : "an elastic model"));
     return;  // a duplicate name is reported already
   }
 }

@@ -92,10 +92,8 @@ Declaration<Item> add(std::vector<ListKey<Item>>& keys, std::string name, Ref re
 std::vector<ListKey<MaterialSpec>> declare_materials() {
   using M = MaterialSpec;
   std::vector<ListKey<M>> keys;
-  const auto elastic = [](const M& m, int) { return m.model == MaterialModel::saint_venant_kirchhoff; };
-  const auto not_elastic = [](const M& m, int) {
-    return "only for saint_venant_kirchhoff (" + is("model", m.model) + ")";
-  };
+  const auto elastic = [](const M& m, int) { return m.model != MaterialModel::newtonian; };
+  const auto not_elastic = [](const M& m, int) { return "only for an elastic model (" + is("model", m.model) + ")"; };
   add(
       keys, "name", [](M & m) -> auto& { return m.name; })
       .required()
@@ -103,7 +101,8 @@ std::vector<ListKey<MaterialSpec>> declare_materials() {
   add(
       keys, "model", [](M & m) -> auto& { return m.model; })
       .discriminator()
-      .doc(R"(`"saint_venant_kirchhoff"` (elastic, for structures), `"newtonian"` (for fluids))");
+      .doc(
+          R"(for structures, with the small-strain moduli of youngs_modulus and poisson_ratio (structure/elastic_law.hpp): `"saint_venant_kirchhoff"` (the seed's), `"neo_hookean"` (compressible, Bonet & Wood 2008), `"mooney_rivlin"` (compressible, Holzapfel 2000); for fluids: `"newtonian"`)");
   add(
       keys, "density", [](M & m) -> auto& { return m.density; })
       .unit("kg/m³")
@@ -113,13 +112,13 @@ std::vector<ListKey<MaterialSpec>> declare_materials() {
       keys, "poisson_ratio", [](M & m) -> auto& { return m.poisson_ratio; })
       .bounds({-1, 0.5, true, true})
       .required()
-      .only(elastic, "saint_venant_kirchhoff", not_elastic)
+      .only(elastic, "elastic models", not_elastic)
       .doc("ν");
   add(
       keys, "youngs_modulus", [](M & m) -> auto& { return m.youngs_modulus; })
       .unit("Pa")
       .bounds(positive())
-      .only(elastic, "saint_venant_kirchhoff", not_elastic)
+      .only(elastic, "elastic models", not_elastic)
       .default_text("one of the two")
       .written([](const M& m) { return m.bulk_modulus == 0; })
       .doc("E; give exactly one of youngs_modulus and bulk_modulus");
@@ -127,19 +126,31 @@ std::vector<ListKey<MaterialSpec>> declare_materials() {
       keys, "bulk_modulus", [](M & m) -> auto& { return m.bulk_modulus; })
       .unit("Pa")
       .bounds(positive())
-      .only(elastic, "saint_venant_kirchhoff", not_elastic)
+      .only(elastic, "elastic models", not_elastic)
       .default_text("one of the two")
       .written([](const M& m) { return m.bulk_modulus > 0; })
       .doc("K, instead of youngs_modulus: then E = 3K(1 − 2ν)");
   add(
       keys, "plane", [](M & m) -> auto& { return m.plane; })
-      .only([](const M& m, int d) { return d == 2 && m.model == MaterialModel::saint_venant_kirchhoff; },
-            "saint_venant_kirchhoff, 2D",
+      .only([](const M& m, int d) { return d == 2 && m.model != MaterialModel::newtonian; }, "elastic models, 2D",
             [](const M& m, int d) {
               return d != 2 ? "only used in 2D (dimension = " + std::to_string(d) + ")"
-                            : "only for saint_venant_kirchhoff (" + is("model", m.model) + ")";
+                            : "only for an elastic model (" + is("model", m.model) + ")";
             })
-      .doc("plane strain or plane stress");
+      .check([](const M& m, int) -> std::string {
+        if (m.plane == PlaneCondition::strain || m.model == MaterialModel::saint_venant_kirchhoff) return "";
+        return "\"stress\" is only for saint_venant_kirchhoff; the hyperelastic models are plane strain in 2D (" +
+               is("model", m.model) + ")";
+      })
+      .doc("plane strain or plane stress (St. Venant-Kirchhoff only)");
+  add(
+      keys, "c01_fraction", [](M & m) -> auto& { return m.c01_fraction; })
+      .bounds({0, 1, false, true})
+      .only([](const M& m, int) { return m.model == MaterialModel::mooney_rivlin; }, "mooney_rivlin",
+            [](const M& m, int) { return "only for mooney_rivlin (" + is("model", m.model) + ")"; })
+      .doc(
+          "c01 / (c10 + c01), with c10 + c01 = mu/2; 0 is a Neo-Hookean shear energy with Mooney-Rivlin's "
+          "volumetric one");
   add(
       keys, "viscosity", [](M & m) -> auto& { return m.viscosity; })
       .unit("m²/s")

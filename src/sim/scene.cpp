@@ -487,12 +487,21 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const
 
 }  // namespace
 
+// The small-strain moduli of E and nu, and each law's constants from them (structure/elastic_law.hpp).
 ElasticMaterial elastic_material(const MaterialSpec& m, int dimension) {
   const Real E = m.youngs_modulus, nu = m.poisson_ratio;
   const Real mu = E / (2 * (1 + nu));
-  Real lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
-  if (dimension == 2 && m.plane == PlaneCondition::stress) lambda = E * nu / (1 - nu * nu);
-  return {m.density, lambda, mu, E};
+  const Real lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+  ElasticMaterial e{m.density, lambda, mu, E};
+  if (m.model == MaterialModel::neo_hookean) e.law = ElasticLaw::neo_hookean;
+  if (m.model == MaterialModel::mooney_rivlin) {
+    e.law = ElasticLaw::mooney_rivlin;
+    e.c01 = m.c01_fraction * mu / 2;
+    e.c10 = mu / 2 - e.c01;
+    e.kappa = lambda + 2 * mu / 3;
+  }
+  if (dimension == 2 && m.plane == PlaneCondition::stress) e.lambda = E * nu / (1 - nu * nu);  // SVK only
+  return e;
 }
 
 template <int D>

@@ -703,14 +703,14 @@ density = 1
 )");
   p = problems(mixed);
   EXPECT_TRUE(reports(p, mixed + ": materials[1].viscosity: missing required key"));
-  EXPECT_TRUE(reports(p, mixed + ": materials[1].youngs_modulus: only for saint_venant_kirchhoff (model = "
+  EXPECT_TRUE(reports(p, mixed + ": materials[1].youngs_modulus: only for an elastic model (model = "
                                  "\"newtonian\")"));
-  EXPECT_TRUE(reports(p, mixed + ": materials[1].poisson_ratio: only for saint_venant_kirchhoff (model = "
+  EXPECT_TRUE(reports(p, mixed + ": materials[1].poisson_ratio: only for an elastic model (model = "
                                  "\"newtonian\")"));
   EXPECT_TRUE(reports(p, mixed + ": materials[2].viscosity: only for newtonian (model = "
                                  "\"saint_venant_kirchhoff\")"));
   EXPECT_TRUE(reports(p, mixed + ": materials[3].model: must be one of \"saint_venant_kirchhoff\", "
-                                 "\"newtonian\" (got \"bingham\")"));
+                                 "\"neo_hookean\", \"mooney_rivlin\", \"newtonian\" (got \"bingham\")"));
   EXPECT_EQ(p.size(), 5u);
 }
 
@@ -755,7 +755,7 @@ shape = { type = "rectangle", min = [0.5, 0], max = [0.6, 0.03] }
   EXPECT_TRUE(reports(p, path + ": bodies[4].initial_velocity: type \"cantilever_mode\" is only for kind = "
                                 "\"structure\"; a fluid takes \"none\" or \"uniform\""));
   EXPECT_TRUE(reports(p, path + ": bodies[5].material: material \"water\" has model = \"newtonian\", but a "
-                                "structure body needs model = \"saint_venant_kirchhoff\""));
+                                "structure body needs an elastic model"));
   EXPECT_TRUE(reports(p, path + ": bodies[6].initial_velocity: not for kind = \"wall\" (use motion)"));
   EXPECT_TRUE(reports(p, path + ": bodies[5].motion: moves the clamped particles of a structure, and this body "
                                 "has no clamps"));

@@ -225,6 +225,19 @@ name = "steel"
 density = 7800
 poisson_ratio = 0.3
 youngs_modulus = 2e11
+[[materials]]
+name = "gum"
+model = "mooney_rivlin"
+density = 1000
+poisson_ratio = 0.45
+youngs_modulus = 1e6
+c01_fraction = 0.2
+[[materials]]
+name = "latex"
+model = "neo_hookean"
+density = 950
+poisson_ratio = 0.45
+youngs_modulus = 2e6
 [[bodies]]
 name = "water"
 kind = "fluid"
