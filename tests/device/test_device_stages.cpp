@@ -130,12 +130,15 @@ TEST(DeviceStages, TlsphStressAndAccelerationCudaMatchesCpu) {
     for (Index k = 0; h.strained && k < h.strained_count; ++k) strained_mask[h.strained[k]] = true;
     for (Index a = 0; a < n; ++a) {
       for (int i = 0; i < 2; ++i) {
-        if (!h.fixed[a])
+        if (!h.fixed[a]) {
           EXPECT_NEAR(acc_d[a][i], h.acc[a][i], 1e-12 * (1 + std::abs(h.acc[a][i])))
               << "seed " << seed << " particle " << a;
+        }
         for (int j = 0; j < 2 && strained_mask[a]; ++j) EXPECT_NEAR(F_d[a](i, j), h.F[a](i, j), 1e-12);
       }
-      if (strained_mask[a]) EXPECT_NEAR(psi_d[a], h.psi[a], 1e-12 * (1 + std::abs(h.psi[a])));
+      if (strained_mask[a]) {
+        EXPECT_NEAR(psi_d[a], h.psi[a], 1e-12 * (1 + std::abs(h.psi[a])));
+      }
     }
   }
 }
