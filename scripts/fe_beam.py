@@ -20,6 +20,8 @@ element edge).
               strain, weightless; u = 0 on x = 0; a uniform traction on one long face (--load, Pa; dead,
               normal to the undeformed face). Prints u at the free end's centre, the tip probe. The
               beam's x is the plate's height and the load's direction its -y.
+  gate        the free part of the elastic gate of cases/elastic_gate.toml, loaded like liao: L = 0.079,
+              T = 0.005, E = 12 MPa, nu = 0.4, plane strain (docs/VALIDATION.md section 25).
 
     /usr/bin/python3 scripts/fe_beam.py cantilever --elements 40 4            # elastica load, 1.75e6 N/m
     /usr/bin/python3 scripts/fe_beam.py cantilever --elements 40 4 --load 1.75e4
@@ -59,6 +61,10 @@ def plate(_load):
 
 def liao(load):
     return Beam(0.09, 0.004, 3.5e6, 0.45, "strain", top_pressure=load, probe_x=0.09)
+
+
+def gate(load):
+    return Beam(0.079, 0.005, 12e6, 0.4, "strain", top_pressure=load, probe_x=0.079)
 
 
 def lagrange(s):
@@ -145,13 +151,13 @@ def solve(beam, nx, ny, steps):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("beam", choices=("cantilever", "plate", "liao"))
+    parser.add_argument("beam", choices=("cantilever", "plate", "liao", "gate"))
     parser.add_argument("--elements", type=int, nargs=2, default=[40, 4], metavar=("NX", "NY"))
     parser.add_argument("--load", type=float, default=1.75e6,
-                        help="cantilever: end load per unit depth [N/m]; liao: traction on the face [Pa]")
+                        help="cantilever: end load per unit depth [N/m]; liao, gate: traction on the face [Pa]")
     parser.add_argument("--steps", type=int, default=10, help="load steps")
     a = parser.parse_args()
-    beam = {"cantilever": cantilever, "plate": plate, "liao": liao}[a.beam](a.load)
+    beam = {"cantilever": cantilever, "plate": plate, "liao": liao, "gate": gate}[a.beam](a.load)
     if a.elements[0] % 2 or (beam.probe_x / beam.length * 2 * a.elements[0]) % 1:
         parser.error("the probe must lie on a node: NX must be even")
     ux, uy = solve(beam, a.elements[0], a.elements[1], a.steps)
