@@ -14,15 +14,17 @@
 //       (wall particles weighted by their wetness, as in the free-surface detection)
 //       (near-surface particles take the normal of their nearest surface neighbour).
 //  fsi  the intermediate layer beside a structure (fluid particles with a structure particle within
-//       the kernel support): the component of dr along the structure's normal n_s (that of the
-//       nearest structure particle) is relocated by the exponential law of Eq. 27,
-//         dr_n <- dr_n + d [exp(-|dr_n| / |d|) - 1],   d = |d| sign(dr_n) n_s,
-//       with |d| from Eq. 29, zeta / |d| = 2 C |R_a · n_s|, so no parameter is added (and Eq. 30,
-//       5 <= |d| |R_n| / zeta <= 50, holds for every C in [0.01, 0.1]). The normal shift then keeps
-//       only |dr_n| - |d| (1 - exp(-2 C^2 R_n^2)): about C^2 R_n^2 |dr_n| where the particles are
-//       regular (small R_n), more where they crowd against the structure (large R_n). (The sign of d
-//       is not printed in the seed; taken along dr_n, the law shortens the normal shift both ways
-//       instead of pushing particles into the structure.)
+//       the kernel support; n_s the normal of the nearest structure particle). Eq. 27 relocates a
+//       displacement x along n_s by  x -> x + |d| [exp(-x / |d|) - 1] = x phi(x / |d|),
+//       phi(y) = 1 - (1 - e^-y) / y, with |d| from Eq. 29: zeta / |d| = q = 2 C |R_n|, R_n = R_a · n_s
+//       (Eq. 30 then holds for every C in [0.01, 0.1]). What x is, the seed says two ways:
+//       literal  x = Xu's normal shift dr_n (Eq. 27's text): dr_n <- dr_n phi(|dr_n| / |d|), which keeps
+//                about C^2 R_n^2 of it: the layer all but stops the normal shift;
+//       derived  x = zeta, the convection distance (Eq. 28, from which Eq. 29 follows):
+//                dr_n <- sign(dr_n) zeta phi(q) = dr_n (2 / q) phi(q), Xu's shift to second order
+//                (q small) and never more than zeta where the particles crowd against the structure.
+//       (The sign of d is not printed in the seed; taken along dr_n, neither law pushes particles
+//       into the structure.)
 //  Splash particles and walls are not shifted. After the shift, velocity and pressure of the
 //  particles with a full support (not surface particles, see TaylorCorrection) are carried to the new
 //  position by first-order Taylor series (Eqs. 20, 31-32), limited to the neighbours' range:
@@ -70,6 +72,7 @@ struct ShiftDisplacement {
   Real zeta;                     // |u|_max dt
   Real max_shift;                // max_fraction h
   bool fsi_layer;                // Eqs. 27-30 beside structures
+  FsiLayerLaw fsi_law;           // what Eq. 27 relocates
   Vec<D>* shift;
   ISPH_HD void operator()(Index a) const {
     shift[a] = Vec<D>::zero();
@@ -108,18 +111,24 @@ struct ShiftDisplacement {
     Vec<D> dr = (coefficient * zeta) * R;
     if (type == ShiftingType::ops && (cls[a] == SurfaceClass::surface || cls[a] == SurfaceClass::near_surface))
       dr = dr - dot(dr, normal) * normal;
-    if (norm2(structure_normal) > 0) dr = dr + fsi_relocation(dot(dr, structure_normal), dot(R, structure_normal)) * structure_normal;
+    if (norm2(structure_normal) > 0)
+      dr = dr +
+           ((fsi_layer_factor(dot(dr, structure_normal), dot(R, structure_normal)) - 1) * dot(dr, structure_normal)) *
+               structure_normal;
     const Real len = sqrt(norm2(dr));
     if (len > max_shift) dr = (max_shift / len) * dr;
     shift[a] = dr;
   }
 
-  // Eqs. 27 and 29: the change of the normal shift dr_n in the FSI layer, given R_n = R_a · n_s.
-  ISPH_HD Real fsi_relocation(Real dr_n, Real R_n) const {
-    if (dr_n == 0 || R_n == 0 || !(zeta > 0)) return 0;
-    const Real d = zeta / (2 * coefficient * fabs(R_n));  // |d|, Eq. 29
-    const Real change = d * (exp(-fabs(dr_n) / d) - 1);    // Eq. 27, |d| taken along dr_n
-    return dr_n > 0 ? change : -change;
+  // Eq. 27 as a ratio, phi(y) = 1 - (1 - e^-y) / y (its series below 1e-4, where the difference cancels).
+  ISPH_HD static Real relocation_ratio(Real y) { return y < 1e-4 ? y / 2 - y * y / 6 : 1 - (1 - exp(-y)) / y; }
+
+  // Eqs. 27-29: the factor the FSI layer puts on the normal shift dr_n, given R_n.
+  ISPH_HD Real fsi_layer_factor(Real dr_n, Real R_n) const {
+    if (R_n == 0 || !(zeta > 0)) return 1;
+    const Real q = 2 * coefficient * fabs(R_n);  // zeta / |d|, Eq. 29
+    if (fsi_law == FsiLayerLaw::literal) return relocation_ratio(fabs(dr_n) * q / zeta);
+    return 2 * relocation_ratio(q) / q;
   }
 };
 

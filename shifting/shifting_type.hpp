@@ -11,4 +11,12 @@ constexpr EnumName<ShiftingType> kShiftingTypeNames[] = {
     {ShiftingType::none, "none"}, {ShiftingType::xu, "xu"}, {ShiftingType::ops, "ops"}};
 constexpr std::span<const EnumName<ShiftingType>> enum_names(ShiftingType) { return kShiftingTypeNames; }
 
+// What the FSI shifting layer's Eq. 27 relocates (seed 001 §2.1.4; docs/VALIDATION.md section 26):
+// literal: the shift of Eq. 21, as its text says; derived: the convection distance |u|_max dt, as its
+// Eq. 28 substitutes it.
+enum class FsiLayerLaw : int { literal = 0, derived = 1 };
+constexpr EnumName<FsiLayerLaw> kFsiLayerLawNames[] = {{FsiLayerLaw::literal, "literal"},
+                                                       {FsiLayerLaw::derived, "derived"}};
+constexpr std::span<const EnumName<FsiLayerLaw>> enum_names(FsiLayerLaw) { return kFsiLayerLawNames; }
+
 }  // namespace isph

@@ -287,6 +287,7 @@ struct FluidSpec {
 struct CouplingSpec {
   int substeps = 0;                          // structure steps per fluid step; 0: from the structure's stability limit
   bool fsi_shifting = true;                  // the FSI shifting layer beside structures (Eqs. 27-30)
+  FsiLayerLaw fsi_shifting_law = FsiLayerLaw::literal;  // what its Eq. 27 relocates
   double tolerance = 1e-3;                   // interface iterations: relative change of the structure's acceleration
   int max_iterations = 30;                   // interface iterations per fluid step (1: explicit, staggered)
   double first_ppe_tolerance = 0.0;          // PPE tolerance of a step's first interface iteration (0: the PPE's)

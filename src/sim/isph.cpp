@@ -41,6 +41,7 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
       shifting_(s.settings.shifting.type),
       extrapolate_surface_(s.settings.surface_pressure == SurfacePressure::extrapolated),
       fsi_shifting_(s.fsi_shifting),
+      fsi_shifting_law_(s.fsi_shifting_law),
       pairwise_force_(s.interaction_force == InteractionForce::pairwise) {
   ParticleSet<D>& ps = particles_;
   for (auto* v : {&x_old_, &u_star_, &u_new_, &grad_p_, &surface_normal_, &shift_, &wall_moment_}) *v = ps.array(Vec<D>::zero());
@@ -256,10 +257,11 @@ void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
     timer.time("shifting", [&] {
       if (kernel_correction_) parallel_for(exec_, n, GradientCorrection<D>{pv.op, L_.data()});
       const Real zeta = particles_.max_speed() * dt;
-      parallel_for(exec_, n, ShiftDisplacement<D>{pv, particles_.volume.data(), cls_.data(), surface_normal_.data(), shifting_,
-                                                  settings_.shifting.coefficient, zeta,
-                                                  settings_.shifting.max_fraction * kernel_.h,
-                                                  fsi_shifting_ && particles_.has_structure(), shift_.data()});
+      parallel_for(
+          exec_, n,
+          ShiftDisplacement<D>{pv, particles_.volume.data(), cls_.data(), surface_normal_.data(), shifting_,
+                               settings_.shifting.coefficient, zeta, settings_.shifting.max_fraction * kernel_.h,
+                               fsi_shifting_ && particles_.has_structure(), fsi_shifting_law_, shift_.data()});
       if (settings_.shifting.taylor_correction) {
         parallel_for(exec_, n, VelocityGradient<D>{pv, L_.data(), particles_.velocity.data(), false, 0.0, grad_u_.data(), nullptr});
         parallel_for(exec_, n, CorrectedGradient<D>{pv.op, L_.data(), particles_.pressure.data(), grad_p_.data()});

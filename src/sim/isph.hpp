@@ -101,6 +101,7 @@ class IsphSolver final : public FluidModel<D> {
   ShiftingType shifting_;
   bool extrapolate_surface_;
   bool fsi_shifting_;
+  FsiLayerLaw fsi_shifting_law_;
   bool pairwise_force_;
   std::unique_ptr<LinearSolver> solver_, fallback_;
   std::string solver_name_;

@@ -68,6 +68,7 @@ struct FluidSetup {
   FluidSpec settings;
   Device device = Device::cpu;        // cuda: the state lives in managed memory and every particle loop runs on the GPU
   bool fsi_shifting = true;           // the FSI shifting layer (Eqs. 27-30)
+  FsiLayerLaw fsi_shifting_law = FsiLayerLaw::literal;
   InteractionForce interaction_force =
       InteractionForce::pairwise;  // pairwise | gradient (Eq. 48 literally; structure/interaction.hpp)
 

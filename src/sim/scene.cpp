@@ -332,6 +332,7 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const
   f.gravity = to_vec<D>(spec.gravity);
   f.settings = spec.fluid;
   f.fsi_shifting = spec.coupling.fsi_shifting;
+  f.fsi_shifting_law = spec.coupling.fsi_shifting_law;
   f.interaction_force = spec.coupling.interaction_force;
 
   // One fluid material.

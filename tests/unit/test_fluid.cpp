@@ -434,28 +434,50 @@ TEST(ViscousAcceleration, TruncatedSupportTakesThePlainForm) {
   EXPECT_EQ(used[1], expected[1]);
 }
 
-// The FSI shifting layer (Eqs. 27-30): the normal shift keeps its sign and shrinks, to about
-// C^2 R_n^2 of itself where the particles are regular (small R_n), much less so where they crowd
-// against the structure (large R_n); nothing changes without a normal concentration gradient.
-TEST(FsiShiftingLayer, ShortensTheNormalShiftByTheExponentialLaw) {
+// The FSI shifting layer (Eqs. 27-30), Eq. 27 with |d| from Eq. 29 fed two ways. Literal (Xu's normal
+// shift in): the shift keeps its sign and shrinks to about C^2 R_n^2 of itself. Derived (the convection
+// distance zeta in, Eq. 28): Xu's shift C zeta R_n to second order where the particles are regular,
+// never more than zeta however hard they crowd, and growing with R_n in between.
+TEST(FsiShiftingLayer, LiteralLawShortensTheNormalShift) {
   ShiftDisplacement<2> s{};
   s.coefficient = 0.05;
   s.zeta = 1e-4;
+  s.fsi_law = FsiLayerLaw::literal;
   for (const double R_n : {0.5, 2.0, 20.0, 60.0}) {
     for (const double sign : {1.0, -1.0}) {
       const double dr_n = sign * s.coefficient * s.zeta * R_n;  // Eq. 21 along the normal
-      const double after = dr_n + s.fsi_relocation(dr_n, sign * R_n);
-      EXPECT_GE(after * dr_n, 0.0) << R_n;                  // same sign (or zero)
-      EXPECT_LT(std::fabs(after), std::fabs(dr_n)) << R_n;  // shorter
-      const double x = 2 * s.coefficient * s.coefficient * R_n * R_n;  // |dr_n| / |d| (Eq. 29)
-      const double d = s.zeta / (2 * s.coefficient * R_n);
-      EXPECT_NEAR(std::fabs(after), std::fabs(dr_n) - d * (1 - std::exp(-x)), 1e-15) << R_n;
+      const double after = s.fsi_layer_factor(dr_n, sign * R_n) * dr_n;
+      EXPECT_GE(after * dr_n, 0.0) << R_n;
+      EXPECT_LT(std::fabs(after), std::fabs(dr_n)) << R_n;
+      const double d = s.zeta / (2 * s.coefficient * R_n);  // Eq. 29
+      EXPECT_NEAR(std::fabs(after), std::fabs(dr_n) + d * (std::exp(-std::fabs(dr_n) / d) - 1), 1e-15)
+          << R_n;  // Eq. 27
     }
   }
-  EXPECT_EQ(s.fsi_relocation(1e-6, 0.0), 0.0);
-  // regular particles: about C^2 R_n^2 |dr_n| is kept
-  const double dr_n = s.coefficient * s.zeta * 0.5;
-  EXPECT_NEAR((dr_n + s.fsi_relocation(dr_n, 0.5)) / dr_n, s.coefficient * s.coefficient * 0.25, 1e-3);
+  EXPECT_EQ(s.fsi_layer_factor(1e-6, 0.0), 1.0);
+  EXPECT_NEAR(s.fsi_layer_factor(s.coefficient * s.zeta * 0.5, 0.5), s.coefficient * s.coefficient * 0.25, 1e-3);
+}
+
+TEST(FsiShiftingLayer, DerivedLawGivesXusShiftBackAndCapsItAtTheConvectionDistance) {
+  ShiftDisplacement<2> s{};
+  s.coefficient = 0.05;
+  s.zeta = 1e-4;
+  s.fsi_law = FsiLayerLaw::derived;
+  double previous = 0;
+  for (const double R_n : {1e-4, 0.01, 0.5, 2.0, 20.0, 60.0, 1e4}) {
+    const double xu = s.coefficient * s.zeta * R_n;  // Eq. 21 along the normal
+    const double layer = s.fsi_layer_factor(xu, R_n) * xu;
+    const double d = s.zeta / (2 * s.coefficient * R_n);                                  // Eq. 29
+    EXPECT_NEAR(layer, s.zeta + d * (std::exp(-s.zeta / d) - 1), 1e-12 * s.zeta) << R_n;  // Eq. 27 of zeta
+    EXPECT_LE(layer, xu) << R_n;
+    EXPECT_LT(layer, s.zeta) << R_n;
+    EXPECT_GT(layer, previous) << R_n;
+    EXPECT_EQ(s.fsi_layer_factor(-xu, -R_n), s.fsi_layer_factor(xu, R_n)) << R_n;  // the sign stays Xu's
+    previous = layer;
+  }
+  const double q = 2 * s.coefficient * 0.5;  // second order: 1 - factor = q / 3 - q^2 / 12 + ...
+  EXPECT_NEAR(1 - s.fsi_layer_factor(0, 0.5), q / 3 - q * q / 12, 1e-4);
+  EXPECT_NEAR(s.fsi_layer_factor(0, 1e4) * s.coefficient * s.zeta * 1e4, s.zeta, 2e-3 * s.zeta);
 }
 
 // The weakly compressible model (sim/wcsph.hpp) starts the still tank in hydrostatic equilibrium, and
