@@ -23,6 +23,10 @@
 //       derived  x = zeta, the convection distance (Eq. 28, from which Eq. 29 follows):
 //                dr_n <- sign(dr_n) zeta phi(q) = dr_n (2 / q) phi(q), Xu's shift to second order
 //                (q small) and never more than zeta where the particles crowd against the structure.
+//       relative x = |u_a - u_s| dt, the particle's own convection distance past the nearest structure
+//                particle s (not the seed's): dr_n <- sign(dr_n) x phi(x / |d|), about Xu's shift
+//                times (x / zeta)^2: Xu's where the water flows past the structure at the step's
+//                largest speed, none where it moves with it (docs/VALIDATION.md section 26).
 //       (The sign of d is not printed in the seed; taken along dr_n, neither law pushes particles
 //       into the structure.)
 //  Splash particles and walls are not shifted. After the shift, velocity and pressure of the
@@ -73,6 +77,8 @@ struct ShiftDisplacement {
   Real max_shift;                // max_fraction h
   bool fsi_layer;                // Eqs. 27-30 beside structures
   FsiLayerLaw fsi_law;           // what Eq. 27 relocates
+  const Vec<D>* velocity;        // the fluid's (relative law)
+  Real dt;                       // the step (relative law)
   Vec<D>* shift;
   ISPH_HD void operator()(Index a) const {
     shift[a] = Vec<D>::zero();
@@ -82,6 +88,7 @@ struct ShiftDisplacement {
     Real rbar = 0, count = 0;
     Real nearest_surface2 = 1e300, nearest_structure2 = 1e300;
     Vec<D> normal = surface_normal[a], structure_normal = Vec<D>::zero();
+    Real relative_distance = 0;  // |u_a - u_s| dt of the nearest structure particle s
     for (Index k = begin; k < end; ++k) {
       const Index b = op.nbr[k];
       const Real r2 = norm2(op.r(a, b));
@@ -96,6 +103,7 @@ struct ShiftDisplacement {
       if (fsi_layer && v.is_structure(b) && r2 < nearest_structure2) {
         nearest_structure2 = r2;
         structure_normal = v.wall_normal[b];
+        if (fsi_law == FsiLayerLaw::relative) relative_distance = sqrt(norm2(velocity[a] - v.wall_velocity[b])) * dt;
       }
     }
     if (!(count > 0)) return;
@@ -112,9 +120,9 @@ struct ShiftDisplacement {
     if (type == ShiftingType::ops && (cls[a] == SurfaceClass::surface || cls[a] == SurfaceClass::near_surface))
       dr = dr - dot(dr, normal) * normal;
     if (norm2(structure_normal) > 0)
-      dr = dr +
-           ((fsi_layer_factor(dot(dr, structure_normal), dot(R, structure_normal)) - 1) * dot(dr, structure_normal)) *
-               structure_normal;
+      dr = dr + ((fsi_layer_factor(dot(dr, structure_normal), dot(R, structure_normal), relative_distance) - 1) *
+                 dot(dr, structure_normal)) *
+                    structure_normal;
     const Real len = sqrt(norm2(dr));
     if (len > max_shift) dr = (max_shift / len) * dr;
     shift[a] = dr;
@@ -123,12 +131,21 @@ struct ShiftDisplacement {
   // Eq. 27 as a ratio, phi(y) = 1 - (1 - e^-y) / y (its series below 1e-4, where the difference cancels).
   ISPH_HD static Real relocation_ratio(Real y) { return y < 1e-4 ? y / 2 - y * y / 6 : 1 - (1 - exp(-y)) / y; }
 
-  // Eqs. 27-29: the factor the FSI layer puts on the normal shift dr_n, given R_n.
-  ISPH_HD Real fsi_layer_factor(Real dr_n, Real R_n) const {
+  // Eqs. 27-29: the factor the FSI layer puts on the normal shift dr_n, given R_n (and, for the
+  // relative law, the particle's convection distance past the structure).
+  ISPH_HD Real fsi_layer_factor(Real dr_n, Real R_n, Real relative_distance = 0) const {
     if (R_n == 0 || !(zeta > 0)) return 1;
     const Real q = 2 * coefficient * fabs(R_n);  // zeta / |d|, Eq. 29
-    if (fsi_law == FsiLayerLaw::literal) return relocation_ratio(fabs(dr_n) * q / zeta);
-    return 2 * relocation_ratio(q) / q;
+    switch (fsi_law) {
+      case FsiLayerLaw::literal:
+        return relocation_ratio(fabs(dr_n) * q / zeta);
+      case FsiLayerLaw::derived:
+        return 2 * relocation_ratio(q) / q;
+      case FsiLayerLaw::relative:
+        break;
+    }
+    if (dr_n == 0) return 1;
+    return relative_distance * relocation_ratio(relative_distance * q / zeta) / fabs(dr_n);
   }
 };
 

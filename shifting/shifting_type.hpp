@@ -13,10 +13,10 @@ constexpr std::span<const EnumName<ShiftingType>> enum_names(ShiftingType) { ret
 
 // What the FSI shifting layer's Eq. 27 relocates (seed 001 §2.1.4; docs/VALIDATION.md section 26):
 // literal: the shift of Eq. 21, as its text says; derived: the convection distance |u|_max dt, as its
-// Eq. 28 substitutes it.
-enum class FsiLayerLaw : int { literal = 0, derived = 1 };
-constexpr EnumName<FsiLayerLaw> kFsiLayerLawNames[] = {{FsiLayerLaw::literal, "literal"},
-                                                       {FsiLayerLaw::derived, "derived"}};
+// Eq. 28 substitutes it; relative: each particle's own convection distance past the structure.
+enum class FsiLayerLaw : int { literal = 0, derived = 1, relative = 2 };
+constexpr EnumName<FsiLayerLaw> kFsiLayerLawNames[] = {
+    {FsiLayerLaw::literal, "literal"}, {FsiLayerLaw::derived, "derived"}, {FsiLayerLaw::relative, "relative"}};
 constexpr std::span<const EnumName<FsiLayerLaw>> enum_names(FsiLayerLaw) { return kFsiLayerLawNames; }
 
 }  // namespace isph

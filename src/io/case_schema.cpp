@@ -283,7 +283,7 @@ std::vector<CaseKey> declare_keys() {
   add(
       keys, "coupling", "fsi_shifting_law", [](auto& c) -> auto& { return c.coupling.fsi_shifting_law; })
       .doc(
-          R"d(what the layer's Eq. 27, x → x + |d| (exp(−x/|d|) − 1) with |d| from Eq. 29, relocates: `"literal"`: Xu's normal shift (the seed's text), which keeps about C²R_n² of it; `"derived"`: the convection distance |u|_max Δt (the seed's Eq. 28), which gives back Xu's normal shift to second order and caps it at |u|_max Δt (docs/VALIDATION.md §26))d");
+          R"d(what the layer's Eq. 27, x → x + |d| (exp(−x/|d|) − 1) with |d| from Eq. 29, relocates: `"literal"`: Xu's normal shift (the seed's text), which keeps about C²R_n² of it; `"derived"`: the convection distance |u|_max Δt (the seed's Eq. 28), which gives back Xu's normal shift to second order and caps it at |u|_max Δt; `"relative"` (not the seed's): each particle's own convection distance past the nearest structure particle, |u_a − u_s| Δt, which keeps Xu's normal shift where the water flows past the structure and stops it where the water moves with it (docs/VALIDATION.md §26))d");
   add(
       keys, "coupling", "interaction_force", [](auto& c) -> auto& { return c.coupling.interaction_force; })
       .doc(

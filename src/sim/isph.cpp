@@ -261,7 +261,8 @@ void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
           exec_, n,
           ShiftDisplacement<D>{pv, particles_.volume.data(), cls_.data(), surface_normal_.data(), shifting_,
                                settings_.shifting.coefficient, zeta, settings_.shifting.max_fraction * kernel_.h,
-                               fsi_shifting_ && particles_.has_structure(), fsi_shifting_law_, shift_.data()});
+                               fsi_shifting_ && particles_.has_structure(), fsi_shifting_law_,
+                               particles_.velocity.data(), dt, shift_.data()});
       if (settings_.shifting.taylor_correction) {
         parallel_for(exec_, n, VelocityGradient<D>{pv, L_.data(), particles_.velocity.data(), false, 0.0, grad_u_.data(), nullptr});
         parallel_for(exec_, n, CorrectedGradient<D>{pv.op, L_.data(), particles_.pressure.data(), grad_p_.data()});

@@ -480,6 +480,25 @@ TEST(FsiShiftingLayer, DerivedLawGivesXusShiftBackAndCapsItAtTheConvectionDistan
   EXPECT_NEAR(s.fsi_layer_factor(0, 1e4) * s.coefficient * s.zeta * 1e4, s.zeta, 2e-3 * s.zeta);
 }
 
+// The relative law (not the seed's): Eq. 27 of the particle's own convection distance x past the
+// structure. At x = zeta it is the derived law; it vanishes with x, as x^2 while x is small.
+TEST(FsiShiftingLayer, RelativeLawFollowsTheParticlesOwnConvectionPastTheStructure) {
+  ShiftDisplacement<2> s{};
+  s.coefficient = 0.05;
+  s.zeta = 1e-4;
+  for (const double R_n : {0.5, 2.0, 20.0}) {
+    const double xu = s.coefficient * s.zeta * R_n;
+    s.fsi_law = FsiLayerLaw::derived;
+    const double derived = s.fsi_layer_factor(xu, R_n);
+    s.fsi_law = FsiLayerLaw::relative;
+    EXPECT_NEAR(s.fsi_layer_factor(xu, R_n, s.zeta), derived, 1e-12) << R_n;
+    EXPECT_NEAR(s.fsi_layer_factor(-xu, -R_n, s.zeta), derived, 1e-12) << R_n;
+    EXPECT_EQ(s.fsi_layer_factor(xu, R_n, 0.0), 0.0) << R_n;
+    const double small = 1e-3 * s.zeta;  // x^2: Xu's shift times (x / zeta)^2
+    EXPECT_NEAR(s.fsi_layer_factor(xu, R_n, small), 1e-6, 1e-8) << R_n;
+  }
+}
+
 // The weakly compressible model (sim/wcsph.hpp) starts the still tank in hydrostatic equilibrium, and
 // its boundary pressure (Adami et al. 2012) extends that field into the walls: for a linear pressure
 // p_f = rho0 g (H - y_f) the Shepard-weighted extrapolation p_w = sum W (p_f + rho_f g (y_f - y_w)) / sum W
