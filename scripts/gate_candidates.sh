@@ -41,7 +41,7 @@ for name in names:
     for row in csv.DictReader(open(f"{out}/{name}/probes.csv")):
         print(f"{name},{row['time']},{row['tip.ux']},{row['tip.uy']}")
 PYEOF
-runs=$(printf "$OUT/%s," shipped hourglass_2.5 hourglass_10 cell gate_fine water_uniform surface_zero ops converged)
+runs=$(printf "$OUT/%s," "${NAMES[@]}")
 $PY scripts/plot.py compare --runs "${runs%,}" --field tip.ux \
   --labels "as shipped,hourglass 2.5,hourglass 10,cell quadrature,gate T/dx = 8,water 1.25 mm,surface p = 0,OPS shifting,converged interface" \
   --reference "$REF/ng_2020_elastic_dam_break_x_displacement_khayyer_2018_isph_sph.csv:Khayyer 2018" \

@@ -87,8 +87,8 @@ struct ShiftDisplacement {
     const Index begin = op.nbr_offset[a], end = op.nbr_offset[a + 1];
     Real rbar = 0, count = 0;
     Real nearest_surface2 = 1e300, nearest_structure2 = 1e300;
-    Vec<D> normal = surface_normal[a], structure_normal = Vec<D>::zero();
-    Real relative_distance = 0;  // |u_a - u_s| dt of the nearest structure particle s
+    Vec<D> normal = surface_normal[a];
+    Index nearest_structure = -1;
     for (Index k = begin; k < end; ++k) {
       const Index b = op.nbr[k];
       const Real r2 = norm2(op.r(a, b));
@@ -102,8 +102,7 @@ struct ShiftDisplacement {
       }
       if (fsi_layer && v.is_structure(b) && r2 < nearest_structure2) {
         nearest_structure2 = r2;
-        structure_normal = v.wall_normal[b];
-        if (fsi_law == FsiLayerLaw::relative) relative_distance = sqrt(norm2(velocity[a] - v.wall_velocity[b])) * dt;
+        nearest_structure = b;
       }
     }
     if (!(count > 0)) return;
@@ -119,10 +118,12 @@ struct ShiftDisplacement {
     Vec<D> dr = (coefficient * zeta) * R;
     if (type == ShiftingType::ops && (cls[a] == SurfaceClass::surface || cls[a] == SurfaceClass::near_surface))
       dr = dr - dot(dr, normal) * normal;
-    if (norm2(structure_normal) > 0)
-      dr = dr + ((fsi_layer_factor(dot(dr, structure_normal), dot(R, structure_normal), relative_distance) - 1) *
-                 dot(dr, structure_normal)) *
-                    structure_normal;
+    if (nearest_structure >= 0 && norm2(v.wall_normal[nearest_structure]) > 0) {
+      const Vec<D> n_s = v.wall_normal[nearest_structure];
+      const Real dr_n = dot(dr, n_s);
+      const Real relative_distance = sqrt(norm2(velocity[a] - v.wall_velocity[nearest_structure])) * dt;
+      dr = dr + ((fsi_layer_factor(dr_n, dot(R, n_s), relative_distance) - 1) * dr_n) * n_s;
+    }
     const Real len = sqrt(norm2(dr));
     if (len > max_shift) dr = (max_shift / len) * dr;
     shift[a] = dr;
