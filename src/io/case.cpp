@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace isph {
 
@@ -30,10 +31,24 @@ bool ball_contains(const Shape& s, const std::array<double, 3>& p, int dimension
   return distance2 <= reach * reach;
 }
 
+// A V of two panels rising from the keel at the deadrise angle: |x - apex_x| <= half_breadth and the
+// point lies between a panel's outer face, y = apex_y + |x - apex_x| tan(deadrise), and its inner face a
+// vertical thickness / cos(deadrise) above it.
+bool wedge_contains(const Shape& s, const std::array<double, 3>& p) {
+  const double scale = std::max({std::abs(s.apex[0]), std::abs(s.apex[1]), s.half_breadth});
+  const double tol = kRelativeTolerance * scale;
+  const double across = std::abs(p[0] - s.apex[0]);
+  const double above = p[1] - s.apex[1] - across * std::tan(s.deadrise * std::numbers::pi / 180.0);
+  return across <= s.half_breadth + tol && above >= -tol && above <= s.vertical_thickness() + tol;
+}
+
 }  // namespace
+
+double Shape::vertical_thickness() const { return thickness / std::cos(deadrise * std::numbers::pi / 180.0); }
 
 // Only the first `dimension` components count.
 bool Shape::contains(const std::array<double, 3>& p, int dimension) const {
+  if (type == ShapeType::wedge) return wedge_contains(*this, p);
   return is_ball(type) ? ball_contains(*this, p, dimension) : box_contains(*this, p, dimension);
 }
 

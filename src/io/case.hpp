@@ -72,8 +72,9 @@ constexpr EnumName<LoadType> kLoadTypeNames[] = {
     {LoadType::edge, "edge"}, {LoadType::traction, "traction"}, {LoadType::point, "point"}, {LoadType::body, "body"}};
 constexpr std::span<const EnumName<LoadType>> enum_names(LoadType) { return kLoadTypeNames; }
 
-enum class ProbeType { displacement, pressure, velocity, front, max_speed };
+enum class ProbeType { displacement, structure_pressure, pressure, velocity, front, max_speed };
 constexpr EnumName<ProbeType> kProbeTypeNames[] = {{ProbeType::displacement, "displacement"},
+                                                   {ProbeType::structure_pressure, "structure_pressure"},
                                                    {ProbeType::pressure, "pressure"},
                                                    {ProbeType::velocity, "velocity"},
                                                    {ProbeType::front, "front"},
@@ -82,9 +83,10 @@ constexpr std::span<const EnumName<ProbeType>> enum_names(ProbeType) { return kP
 
 // A geometric primitive. In 2D: "rectangle" (min, max) or "circle" (center, radius).
 // In 3D: "box" (min, max) or "sphere" (center, radius). Unused components stay zero.
-enum class ShapeType { rectangle, circle, box, sphere };
+enum class ShapeType { rectangle, circle, wedge, box, sphere };
 constexpr EnumName<ShapeType> kShapeTypeNames[] = {{ShapeType::rectangle, "rectangle"},
                                                    {ShapeType::circle, "circle"},
+                                                   {ShapeType::wedge, "wedge"},
                                                    {ShapeType::box, "box"},
                                                    {ShapeType::sphere, "sphere"}};
 constexpr std::span<const EnumName<ShapeType>> enum_names(ShapeType) { return kShapeTypeNames; }
@@ -96,6 +98,12 @@ struct Shape {
   std::array<double, 3> max{};
   std::array<double, 3> center{};   // circle / sphere
   double radius = 0.0;
+  std::array<double, 3> apex{};  // wedge (2D): the keel, the lowest point of its outer face
+  double half_breadth = 0.0;     // wedge: horizontal distance from the keel to each chine
+  double deadrise = 0.0;         // wedge: each panel's angle to the horizontal [degrees]
+  double thickness = 0.0;        // wedge: each panel's thickness, normal to it
+  // wedge: the height of a panel's section on a vertical line, thickness / cos(deadrise)
+  double vertical_thickness() const;
   bool contains(const std::array<double, 3>& p, int dimension) const;
   bool operator==(const Shape&) const = default;
 };

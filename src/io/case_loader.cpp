@@ -567,10 +567,13 @@ void check_stages(CaseSpec& c, Context& ctx) {
     ctx.problem("stages", "nothing to run: set stages.structure or stages.fluid to true");
   for (std::size_t i = 0; i < c.probes.size(); ++i) {
     const std::string type = name_of(c.probes[i].type);
-    const bool structural = c.probes[i].type == ProbeType::displacement;
-    if (structural ? c.stages.structure : c.stages.fluid) continue;
-    ctx.problem(index_path("probes", i) + ".type",
-                toml_string(type) + " probes need stages." + (structural ? "structure" : "fluid") + " = true");
+    const ProbeType t = c.probes[i].type;
+    const bool needs_structure = t == ProbeType::displacement || t == ProbeType::structure_pressure;
+    const bool needs_fluid = t != ProbeType::displacement;
+    if (needs_structure && !c.stages.structure)
+      ctx.problem(index_path("probes", i) + ".type", toml_string(type) + " probes need stages.structure = true");
+    if (needs_fluid && !c.stages.fluid)
+      ctx.problem(index_path("probes", i) + ".type", toml_string(type) + " probes need stages.fluid = true");
   }
 }
 

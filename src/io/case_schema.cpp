@@ -147,7 +147,9 @@ std::vector<CaseKey> declare_keys() {
       keys, "fluid", "reference_velocity", [](auto& c) -> auto& { return c.fluid.reference_velocity; })
       .unit("m/s")
       .bounds(non_negative())
-      .doc("floor on U in Eq. 49. 0: √(2 |g| H), H the fluid's vertical extent, or the fastest wall speed if larger");
+      .doc(
+          "floor on U in Eq. 49. 0: √(2 |g| H), H the fluid's vertical extent, or the fastest moving wall or clamp if "
+          "faster");
   add(
       keys, "fluid", "max_dt", [](auto& c) -> auto& { return c.fluid.max_dt; })
       .unit("s")

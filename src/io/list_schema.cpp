@@ -164,30 +164,33 @@ std::vector<ListKey<MaterialSpec>> declare_materials() {
 
 std::vector<ListKey<Shape>> declare_shapes() {
   std::vector<ListKey<Shape>> keys;
-  const auto box = [](const Shape& s, int) { return !is_ball(s.type); };
+  const auto box = [](const Shape& s, int) { return s.type == ShapeType::rectangle || s.type == ShapeType::box; };
   const auto ball = [](const Shape& s, int) { return is_ball(s.type); };
+  const auto wedge = [](const Shape& s, int) { return s.type == ShapeType::wedge; };
   const auto not_box = [](const Shape& s, int) {
     return "only for type = \"rectangle\" or \"box\" (" + is("type", s.type) + ")";
   };
   const auto not_ball = [](const Shape& s, int) {
     return "only for type = \"circle\" or \"sphere\" (" + is("type", s.type) + ")";
   };
+  const auto not_wedge = [](const Shape& s, int) { return "only for type = \"wedge\" (" + is("type", s.type) + ")"; };
   add(
       keys, "type", [](Shape & s) -> auto& { return s.type; })
       .required()
       .discriminator()
       .choices_in([](int d) -> std::vector<std::string> {
-        if (d == 2) return {"rectangle", "circle"};
+        if (d == 2) return {"rectangle", "circle", "wedge"};
         return {"box", "sphere"};
       })
       .check([](const Shape& s, int d) -> std::string {
-        const bool planar_type = s.type == ShapeType::rectangle || s.type == ShapeType::circle;
+        const bool planar_type =
+            s.type == ShapeType::rectangle || s.type == ShapeType::circle || s.type == ShapeType::wedge;
         if (planar_type == (d == 2)) return "";
         return quoted(std::string(name_of(s.type))) + " is a " + (d == 2 ? "3D" : "2D") +
                " shape, but dimension = " + std::to_string(d) + "; must be one of " +
-               (d == 2 ? R"("rectangle", "circle")" : R"("box", "sphere")");
+               (d == 2 ? R"("rectangle", "circle", "wedge")" : R"("box", "sphere")");
       })
-      .doc(R"(2D: `"rectangle"`, `"circle"`; 3D: `"box"`, `"sphere"`)");
+      .doc(R"(2D: `"rectangle"`, `"circle"`, `"wedge"`; 3D: `"box"`, `"sphere"`)");
   add(
       keys, "min", [](Shape & s) -> auto& { return s.min; })
       .unit("m")
@@ -211,6 +214,33 @@ std::vector<ListKey<Shape>> declare_shapes() {
       .bounds(positive())
       .required()
       .only(ball, "circle, sphere", not_ball);
+  add(
+      keys, "apex", [](Shape & s) -> auto& { return s.apex; })
+      .unit("m")
+      .required()
+      .only(wedge, "wedge", not_wedge)
+      .doc("the keel: the lowest point of the wedge's outer face");
+  add(
+      keys, "half_breadth", [](Shape & s) -> auto& { return s.half_breadth; })
+      .unit("m")
+      .bounds(positive())
+      .required()
+      .only(wedge, "wedge", not_wedge)
+      .doc("the horizontal distance from the keel to each chine");
+  add(
+      keys, "deadrise", [](Shape & s) -> auto& { return s.deadrise; })
+      .unit("°")
+      .bounds({0.0, 60.0, false, true})
+      .required()
+      .only(wedge, "wedge", not_wedge)
+      .doc("each panel's angle to the horizontal");
+  add(
+      keys, "thickness", [](Shape & s) -> auto& { return s.thickness; })
+      .unit("m")
+      .bounds(positive())
+      .required()
+      .only(wedge, "wedge", not_wedge)
+      .doc("each panel's thickness, normal to the panel");
   return keys;
 }
 
@@ -375,9 +405,17 @@ std::vector<ListKey<BodySpec>> declare_bodies() {
       .doc(
           "name of a material: saint_venant_kirchhoff for a structure, newtonian for a fluid; optional "
           "(unused) for walls");
+  const auto own_lattice = [](const B& b, int) { return b.shape.type != ShapeType::wedge; };
+  const auto wedge_lattice = [](const B&, int) {
+    return std::string("not for a wedge, which is filled on its own lattice (docs/CASES.md, shapes)");
+  };
   add(
       keys, "shape", [](B & b) -> auto& { return b.shape; })
       .required()
+      .check([](const B& b, int) -> std::string {
+        if (b.shape.type != ShapeType::wedge || b.kind == ParticleKind::structure) return "";
+        return "a wedge is a structure's shape (" + is("kind", b.kind) + ")";
+      })
       .doc("the region filled with particles");
   add(
       keys, "clamps", [](B & b) -> auto& { return b.clamps; })
@@ -406,6 +444,7 @@ std::vector<ListKey<BodySpec>> declare_bodies() {
   add(
       keys, "lattice_origin", [](B & b) -> auto& { return b.lattice_origin; })
       .unit("m")
+      .only(own_lattice, "all but wedges", wedge_lattice)
       .preset([](B& b, int d) {
         if (!is_ball(b.shape.type)) {
           b.lattice_origin = b.shape.min;
@@ -418,6 +457,7 @@ std::vector<ListKey<BodySpec>> declare_bodies() {
       .doc("particles at origin + (i + offset) s inside the shape, s the body's spacing");
   add(
       keys, "lattice_offset", [](B & b) -> auto& { return b.lattice_offset; })
+      .only(own_lattice, "all but wedges", wedge_lattice)
       .check([](const B& b, int d) -> std::string {
         for (int k = 0; k < d; ++k)
           if (!(b.lattice_offset[k] >= 0.0 && b.lattice_offset[k] < 1.0))
@@ -483,7 +523,10 @@ std::vector<ListKey<LoadSpec>> declare_loads() {
       .doc("name of a body");
   only(add(
            keys, "region", [](L & l) -> auto& { return l.region; })
-           .required(),
+           .required()
+           .check([](const L& l, int) -> std::string {
+             return l.region.type == ShapeType::wedge ? "a load's region is a rectangle, circle, box or sphere" : "";
+           }),
        of({LoadType::edge, LoadType::traction}))
       .doc(
           "the free particles of the body whose cell touches it (centre within dx/2) are loaded: \"edge\" shares "
@@ -539,7 +582,8 @@ std::vector<ListKey<ProbeSpec>> declare_probes() {
       .doc("unique among probes; a column and file name");
   add(
       keys, "type", [](P & p) -> auto& { return p.type; })
-      .doc(R"(`"displacement"`, `"pressure"`, `"velocity"`, `"front"`, `"max_speed"`: see below)");
+      .doc(
+          R"(`"displacement"`, `"structure_pressure"`, `"pressure"`, `"velocity"`, `"front"`, `"max_speed"`: see below)");
   add(
       keys, "point", [](P & p) -> auto& { return p.point; })
       .unit("m")

@@ -314,6 +314,13 @@ Real ParticleSet<D>::interpolate_pressure(const Vec<D>& point) const {
 }
 
 template <int D>
+Real ParticleSet<D>::structure_pressure(Index structure) const {
+  for (Index a = 0; a < size(); ++a)
+    if (structure_index[a] == structure) return pressure[a];
+  return 0;
+}
+
+template <int D>
 Vec<D> ParticleSet<D>::interpolate_velocity(const Vec<D>& point) const {
   Vec<D> num = Vec<D>::zero();
   Real den = 0;

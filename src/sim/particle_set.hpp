@@ -217,6 +217,8 @@ class ParticleSet {
   // particles. Zero where no particle is in reach.
   Real interpolate_pressure(const Vec<D>& point) const;
   Vec<D> interpolate_velocity(const Vec<D>& point) const;
+  // The pressure of the row that stands for TLSPH particle `structure` (its PPE pressure).
+  Real structure_pressure(Index structure) const;
   // Largest x of the fluid particles below `height` on the vertical axis (D - 1); -inf if none.
   Real front(Real height) const;
   // First particle with a non-finite position, velocity or pressure, or -1.

@@ -554,6 +554,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
       for (int d = 0; d < D; ++d) columns.push_back(p.name + "." + kComponents[d]);
   }
   if (scene.has_structure) add_displacement_columns(scene, columns);
+  for (const auto& p : scene.pressure_probes) columns.push_back(p.name + ".p");
   RunFrame frame(spec, opt, columns, D);
   frame.set_books_advice(spec.fluid.model == FluidMethod::wcsph
                              ? "try a smaller fluid.courant (or structure.courant with a structure)"
@@ -605,6 +606,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
       if (coupling) {
         const TlsphSolver<D>& s = coupling->solver();
         add_displacement_values(scene, s, row);
+        for (const auto& p : scene.pressure_probes) row.push_back(particles.structure_pressure(p.particle));
         sk = s.kinetic_energy(), sp = s.potential_energy();
         ss = s.strain_energy() + s.obstacle_contact().energy;  // the wall contact's penalty stores strain energy too
       }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <numbers>
 
 #include "core/neighbour_search.hpp"
 #include "io/case_loader.hpp"
@@ -18,6 +19,12 @@ std::array<double, 3> to_array(const Vec<3>& v) { return {v[0], v[1], v[2]}; }
 // Bounding box of a shape in the first D components.
 template <int D>
 void shape_bounds(const Shape& s, Vec<D>& lo, Vec<D>& hi) {
+  if (s.type == ShapeType::wedge) {
+    lo[0] = s.apex[0] - s.half_breadth, hi[0] = s.apex[0] + s.half_breadth;
+    lo[1] = s.apex[1];
+    hi[1] = s.apex[1] + s.half_breadth * std::tan(s.deadrise * std::numbers::pi / 180.0) + s.vertical_thickness();
+    return;
+  }
   for (int d = 0; d < D; ++d) {
     const bool round = is_ball(s.type);
     lo[d] = round ? s.center[d] - s.radius : s.min[d];
@@ -50,6 +57,53 @@ std::vector<Vec<D>> fill_lattice(const Shape& shape, const std::array<double, 3>
     if (d == D) break;
   }
   return points;
+}
+
+// A wedge's own lattice: columns s apart from the keel out to each chine, each holding n particles
+// stacked vertically from the outer face, n = round(thickness / (s cos β)), their pitch the vertical
+// thickness / n. The lattice is a rectangle's sheared onto each panel's slope (a shear keeps areas):
+// the faces are straight rows of particles, and each particle's cell, s times the pitch, makes the
+// panel exactly its thickness (docs/CASES.md, shapes).
+struct WedgeLattice {
+  int layers = 1;
+  Real pitch = 0;  // vertical distance between a column's particles
+};
+WedgeLattice wedge_lattice(const Shape& w, Real s) {
+  const Real vertical = w.vertical_thickness();
+  const int layers = std::max(1, static_cast<int>(std::lround(vertical / s)));
+  return {layers, vertical / layers};
+}
+
+template <int D>
+std::vector<Vec<D>> fill_wedge(const Shape& w, Real s) {
+  std::vector<Vec<D>> points;
+  const WedgeLattice lattice = wedge_lattice(w, s);
+  const Real slope = std::tan(w.deadrise * std::numbers::pi / 180.0);
+  const int columns = static_cast<int>(std::lround(w.half_breadth / s));
+  for (int side : {-1, 1})
+    for (int i = 0; i < columns; ++i) {
+      const Real across = (i + 0.5) * s;
+      for (int j = 0; j < lattice.layers; ++j) {
+        Vec<D> p = Vec<D>::zero();
+        p[0] = w.apex[0] + side * across;
+        p[1] = w.apex[1] + across * slope + (j + 0.5) * lattice.pitch;
+        points.push_back(p);
+      }
+    }
+  return points;
+}
+
+// A body's particles: its shape filled on its lattice (a wedge on its own).
+template <int D>
+std::vector<Vec<D>> fill_body(const BodySpec& body, Real s) {
+  if (body.shape.type == ShapeType::wedge) return fill_wedge<D>(body.shape, s);
+  return fill_lattice<D>(body.shape, body.lattice_origin, body.lattice_offset, s);
+}
+// The volume of each particle of a body of spacing s.
+template <int D>
+Real cell_volume(const Shape& shape, Real s) {
+  if (shape.type == ShapeType::wedge) return s * wedge_lattice(shape, s).pitch;
+  return D == 2 ? s * s : s * s * s;
 }
 
 // The shape grown by `margin` on every side (an edge load takes the particles whose lattice cell
@@ -115,7 +169,7 @@ void add_fluid_body(const CaseSpec& spec, std::size_t bi, const std::vector<Vec<
                     FluidSetup<D>& f) {
   const BodySpec& body = spec.bodies[bi];
   const bool is_fluid = body.kind == ParticleKind::fluid;
-  const Real volume = D == 2 ? spec.dx * spec.dx : spec.dx * spec.dx * spec.dx;
+  const Real volume = cell_volume<D>(body.shape, spec.dx);
   const bool moves = !is_fluid && body.motion.type != MotionType::none;
   if (moves) f.motions.emplace_back(body.motion);
   f.motion.resize(f.x.size(), -1);
@@ -133,16 +187,16 @@ void add_fluid_body(const CaseSpec& spec, std::size_t bi, const std::vector<Vec<
   }
 }
 
-// Appends a structure particle of spacing s to the fluid set-up, where it acts as a moving boundary
-// (coupled cases).
+// Appends a structure particle of the given volume to the fluid set-up, where it acts as a moving
+// boundary (coupled cases).
 template <int D>
-void add_structure_particle(const Vec<D>& x, const Vec<D>& v, Index structure_index, Real s, int level,
+void add_structure_particle(const Vec<D>& x, const Vec<D>& v, Index structure_index, Real volume, int level,
                             FluidSetup<D>& f) {
   f.structure_index.resize(f.x.size(), -1);
   f.id.push_back(static_cast<Index>(f.x.size()));
   f.x.push_back(x);
   f.u.push_back(v);
-  f.volume.push_back(D == 2 ? s * s : s * s * s);
+  f.volume.push_back(volume);
   f.kind.push_back(FluidKind::structure);
   f.level.push_back(static_cast<unsigned char>(level));
   f.wall_velocity.push_back(v);
@@ -317,7 +371,7 @@ void check_wall_thickness(const FluidSetup<D>& f, const std::vector<unsigned cha
 // Checks the fluid set-up and completes it: material, overlaps, containment, wall geometry, the
 // reference velocity of Eq. 49 and the fluid probes.
 template <int D>
-void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const std::vector<unsigned char>& structure_fixed,
+void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const TlsphSetup<D>& structure,
                   std::vector<std::string>& problems) {
   const std::string file = spec.source_path.empty() ? spec.name : spec.source_path;
   const Real dx = spec.dx;
@@ -411,26 +465,35 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const
                          " fluid particles lie outside every wall (beyond the walls' bounding box)");
   }
 
-  const std::vector<unsigned char> corner =
-      wall_surface_geometry(f, structure_fixed, resolutions.spacing, f.fluid_kernel().support(), period,
-                            to_vec<D>(spec.gravity));
+  const std::vector<unsigned char> corner = wall_surface_geometry(
+      f, structure.fixed, resolutions.spacing, f.fluid_kernel().support(), period, to_vec<D>(spec.gravity));
   check_wall_thickness(f, corner, dx, f.fluid_kernel().support(), period, file, problems);
 
-  // Moving walls: where they go and how fast, sampled over the run (for Eq. 49 and the escape box).
-  Real wall_speed = 0;
+  // Moving walls: where they go and how fast, sampled over the run (for Eq. 49 and the escape box); and
+  // how fast the moving clamps of structures go (for Eq. 49: a slamming wedge's water is still until it
+  // arrives).
+  constexpr int samples = 200;
+  const auto sample_time = [&spec](int k) { return spec.end_time * k / samples; };
+  Real boundary_speed = 0;
+  for (std::size_t a = 0; a < structure.X.size(); ++a) {
+    if (!structure.fixed[a] || structure.motion[a] < 0) continue;
+    for (int k = 0; k <= samples; ++k) {
+      const Vec<D> v = structure.motions[structure.motion[a]].velocity(structure.X[a], sample_time(k));
+      boundary_speed = std::max(boundary_speed, std::sqrt(norm2(v)));
+    }
+  }
   for (Index a = 0; a < n; ++a) {
     if (f.motion[a] < 0) continue;
     const RigidMotion<D>& m = f.motions[f.motion[a]];
-    constexpr int samples = 200;
     for (int k = 0; k <= samples; ++k) {
-      const Real t = spec.end_time * k / samples;
+      const Real t = sample_time(k);
       const Vec<D> x = m.position(f.x[a], t);
       for (int d = 0; d < D; ++d) lo[d] = std::min(lo[d], x[d]), hi[d] = std::max(hi[d], x[d]);
-      wall_speed = std::max(wall_speed, std::sqrt(norm2(m.velocity(f.x[a], t))));
+      boundary_speed = std::max(boundary_speed, std::sqrt(norm2(m.velocity(f.x[a], t))));
     }
   }
 
-  // Reference velocity of Eq. 49: free fall over the fluid's height, or the fastest wall.
+  // Reference velocity of Eq. 49: free fall over the fluid's height, or the fastest wall or clamp.
   Real fluid_lo = std::numeric_limits<Real>::max(), fluid_hi = -fluid_lo;
   const Vec<D> g = to_vec<D>(spec.gravity);
   const Real g_norm = std::sqrt(norm2(g));
@@ -441,10 +504,12 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const
     }
   }
   const Real fall = g_norm > 0 ? std::sqrt(2 * g_norm * (fluid_hi - fluid_lo + dx)) : 0;
-  f.reference_velocity = spec.fluid.reference_velocity > 0 ? spec.fluid.reference_velocity : std::max(fall, wall_speed);
+  f.reference_velocity =
+      spec.fluid.reference_velocity > 0 ? spec.fluid.reference_velocity : std::max(fall, boundary_speed);
   if (!(f.reference_velocity > 0))
-    problems.push_back(file + ": fluid.reference_velocity: no gravity and no moving wall; give the velocity scale of "
-                              "the flow (Eq. 49 needs it)");
+    problems.push_back(file +
+                       ": fluid.reference_velocity: no gravity and no moving wall or clamp; give the velocity scale of "
+                       "the flow (Eq. 49 needs it)");
 
   // Escape box: the box of all particles (and of the moving walls' paths) grown by 2h, and upwards
   // (against gravity) by its own size.
@@ -473,7 +538,7 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const
 
   for (std::size_t pi = 0; pi < spec.probes.size(); ++pi) {
     const ProbeSpec& p = spec.probes[pi];
-    if (p.type == ProbeType::displacement) continue;
+    if (p.type == ProbeType::displacement || p.type == ProbeType::structure_pressure) continue;
     const Vec<D> point = to_vec<D>(p.point);
     if (p.type == ProbeType::pressure || p.type == ProbeType::velocity) {
       Real nearest = std::numeric_limits<Real>::max();
@@ -531,7 +596,8 @@ Scene<D> build_scene(const CaseSpec& spec) {
     const std::string key = "bodies[" + std::to_string(bi) + "]";
     const Real spacing = body.spacing(dx);
     const int level = resolutions.level(body);
-    const auto points = fill_lattice<D>(body.shape, body.lattice_origin, body.lattice_offset, spacing);
+    const auto points = fill_body<D>(body, spacing);
+    const Real volume = cell_volume<D>(body.shape, spacing);
     if (points.empty()) {
       problems.push_back(file + ": " + key + ".shape: no particles at a spacing of " + std::to_string(spacing) +
                          " m (the shape is smaller than the particle spacing)");
@@ -560,14 +626,14 @@ Scene<D> build_scene(const CaseSpec& spec) {
       s.X.push_back(p);
       const Vec<D> clamp_velocity = clamp_motion >= 0 ? s.motions[clamp_motion].velocity(p, 0) : Vec<D>::zero();
       s.v.push_back(fixed ? clamp_velocity : initial_velocity<D>(body.initial_velocity, p));
-      s.volume.push_back(D == 2 ? spacing * spacing : spacing * spacing * spacing);
+      s.volume.push_back(volume);
       s.level.push_back(static_cast<unsigned char>(level));
       s.material.push_back(material);
       s.body.push_back(static_cast<int>(bi));
       s.fixed.push_back(fixed);
       s.motion.push_back(fixed ? clamp_motion : -1);
       if (spec.stages.fluid)
-        add_structure_particle<D>(p, s.v.back(), static_cast<Index>(s.X.size()) - 1, spacing, level, fluid);
+        add_structure_particle<D>(p, s.v.back(), static_cast<Index>(s.X.size()) - 1, volume, level, fluid);
     }
     for (std::size_t c = 0; c < body.clamps.size(); ++c)
       if (clamp_count[c] == 0)
@@ -581,7 +647,7 @@ Scene<D> build_scene(const CaseSpec& spec) {
   if (s.motions.size() > static_cast<std::size_t>(kMaxMotions))
     problems.push_back(file + ": bodies: " + std::to_string(s.motions.size()) + " structures with moving clamps; at most " +
                        std::to_string(kMaxMotions) + " are supported");
-  if (scene.has_fluid) finish_fluid<D>(spec, scene, fluid, s.fixed, problems);
+  if (scene.has_fluid) finish_fluid<D>(spec, scene, fluid, s, problems);
 
   // Loads: per-particle acceleration at full load.
   for (std::size_t li = 0; li < spec.loads.size(); ++li) {
@@ -650,10 +716,11 @@ Scene<D> build_scene(const CaseSpec& spec) {
   for (Index& i : fluid.structure_index)
     if (i >= 0) i = sorted_slot[i];
 
-  // Probes: the structure particle nearest the point, which must lie within its spacing of the body.
+  // Structure probes: the structure particle nearest the point, which must lie within its spacing of the
+  // body.
   for (std::size_t pi = 0; pi < spec.probes.size(); ++pi) {
     const ProbeSpec& p = spec.probes[pi];
-    if (p.type != ProbeType::displacement) continue;
+    if (p.type != ProbeType::displacement && p.type != ProbeType::structure_pressure) continue;
     const Vec<D> point = to_vec<D>(p.point);
     Real best = std::numeric_limits<Real>::max();
     Index arg = -1;
@@ -665,8 +732,10 @@ Scene<D> build_scene(const CaseSpec& spec) {
       problems.push_back(file + ": probes[" + std::to_string(pi) + "].point: probe '" + p.name +
                          "' lies outside every structure (nearest particle " + std::to_string(std::sqrt(best)) +
                          " m away, more than its spacing)");
-    else
+    else if (p.type == ProbeType::displacement)
       scene.probes.push_back({p.name, arg, point});
+    else
+      scene.pressure_probes.push_back({p.name, arg});
   }
   if (!problems.empty()) throw CaseError(problems);
 

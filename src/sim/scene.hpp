@@ -16,6 +16,12 @@ struct DisplacementProbe {
   Vec<D> point;    // where u is reported: u_a + (F_a - I)(point - X_a)
 };
 
+// The pressure the fluid puts on a structure particle: its row of the pressure Poisson equation.
+struct StructurePressureProbe {
+  std::string name;
+  Index particle;  // nearest structure particle in the reference configuration
+};
+
 // A fixed-point probe of the fluid: pressure, velocity or surge front (io/case.hpp ProbeSpec).
 template <int D>
 struct FluidProbe {
@@ -35,6 +41,7 @@ struct Scene {
   Index fluid_particles = 0;
   Index wall_particles = 0;
   std::vector<DisplacementProbe<D>> probes;
+  std::vector<StructurePressureProbe> pressure_probes;
   std::vector<FluidProbe<D>> fluid_probes;
   Real body_extent = 0;              // largest body size, for the divergence test
   Vec<D> domain_lo, domain_hi;       // fluid: a particle leaving this box has escaped

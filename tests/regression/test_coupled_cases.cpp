@@ -240,6 +240,57 @@ TEST(CoupledGate, OwnKrylovSolverNeedsTheAmgForTheGatesPressure) {
   EXPECT_GT(json_number(jacobi, "mean_iterations"), 15 * json_number(amg, "mean_iterations")) << jacobi;
 }
 
+// The elastic wedge's water entry (cases/elastic_wedge.toml) at twice the shipped spacing (water 0.02 m,
+// the aluminium 0.01 m, 4 particles through each panel), to 2.2 ms: the panels bend like the references,
+// the keel feels the analytical pressure and the spray root passes C where Wagner's wetting puts it.
+// Measured 2026-12-05: the mid-panel deflection 9.04 mm at 2.0 ms (analytical 10.1 mm); the keel's mean
+// pressure over 0.2-1.2 ms 6.47 MPa against the analytical's 6.94 MPa (a rigid wedge's, Wagner's
+// rho V dc/dt, is 8.02 MPa: the panels' bending unloads the keel); p_C first above 5 MPa at
+// 1.64 ms, Wagner's rigid wedge wets C at 1.68 ms (with Xu/Lind shifting at the surface: 1.48 ms;
+// docs/VALIDATION.md section 27). About 25 s.
+TEST(CoupledWedge, SlammingBendsThePanelsAndLoadsTheKeelLikeTheAnalyticalSolution) {
+  const fs::path out = fresh_dir("coupled_wedge");
+  const auto r = isph("run " + kCases + "elastic_wedge.toml --quiet --out " + out.string() +
+                      " --set dx=0.02 --set end_time=0.0022 --set output.snapshots=false");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto probes = read_csv(out / "probes.csv");
+  const auto& t = probes.at("time");
+  std::vector<double> deflection;  // uy less the clamps' motion, -30 t
+  for (std::size_t k = 0; k < t.size(); ++k) deflection.push_back(probes.at("deflection.uy")[k] + 30 * t[k]);
+  const double at_2ms = interpolate(t, deflection, 0.002);
+  EXPECT_NEAR(at_2ms, 9.04e-3, 0.03 * 9.04e-3);
+  const auto curve = [](const std::string& quantity) {
+    std::vector<double> time, value;
+    for (const auto& [ti, v] :
+         read_reference("zhang_2021_elastic_wedge_water_entry/zhang_2021_high_speed_water_entry_of_an_"
+                        "elastic_wedge_" +
+                        quantity + "_analytical.csv"))
+      time.push_back(ti), value.push_back(v);
+    return std::pair{time, value};
+  };
+  const auto [tw, wa] = curve("y_displacement");
+  EXPECT_NEAR(at_2ms, interpolate(tw, wa, 0.002), 0.15 * interpolate(tw, wa, 0.002));
+
+  // The keel's pressure over 0.2-1.2 ms, ours and the analytical one's (in units of 10 MPa) at our times.
+  const auto [tp, pa] = curve("pressure_point_A");
+  double keel = 0, keel_analytical = 0, arrival = 0;
+  int samples = 0;
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    if (t[k] >= 2e-4 && t[k] <= 1.2e-3)
+      keel += probes.at("pressure_A.p")[k], keel_analytical += 1e7 * interpolate(tp, pa, t[k]), ++samples;
+    if (arrival == 0 && probes.at("pressure_C.p")[k] > 5e6) arrival = t[k];
+  }
+  keel /= samples, keel_analytical /= samples;
+  EXPECT_NEAR(keel, 6.47e6, 0.03 * 6.47e6);
+  EXPECT_NEAR(keel, keel_analytical, 0.1 * keel_analytical);
+  const double pi = std::acos(-1.0), wetting_speed = 0.5 * pi * 30 / std::tan(10 * pi / 180);  // Wagner's dc/dt
+  EXPECT_NEAR(arrival, 1.64e-3, 0.05e-3);
+  EXPECT_NEAR(arrival, 0.45 / wetting_speed, 0.05 * 0.45 / wetting_speed);
+  const std::string s = read_file(out / "summary.json");
+  EXPECT_EQ(json_number(s, "fluid_inside_structure_max"), 0) << s;
+  EXPECT_EQ(json_number(s, "fluid_inside_wall_max"), 0) << s;
+}
+
 // Every bundled case passes `isph check` (the rolling tank's roll history is found beside it).
 TEST(BundledCases, AllPassCheck) {
   for (const auto& entry : fs::directory_iterator(kCases)) {

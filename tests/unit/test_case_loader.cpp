@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -241,6 +242,48 @@ TEST_F(CaseLoaderTest, TractionLoadsEachCellFace) {
   EXPECT_NEAR(total[0], 0.0, 1e-12);
 }
 
+// A wedge's lattice: 2 x 20 columns 0.005 m apart from the keel, each of round(T / (s cos β)) = 4
+// particles stacked along the vertical from the outer face; their cells sum to the panels' area
+// 2 (B / cos β) T, every particle lies inside the shape, and the outer row lies on the outer face
+// (half a pitch above it along the vertical).
+TEST_F(CaseLoaderTest, WedgeIsFilledOnItsShearedLattice) {
+  const double B = 0.1, T = 0.02, beta = 20.0 * std::numbers::pi / 180.0, s0 = 0.005;
+  const CaseSpec spec = load_case(write("wedge_lattice.toml", R"(
+dx = 0.01
+end_time = 1
+[[materials]]
+name = "steel"
+density = 7800
+youngs_modulus = 2e11
+poisson_ratio = 0.3
+[[bodies]]
+name = "hull"
+material = "steel"
+refinement = 2
+shape = { type = "wedge", apex = [0.5, 0.2], half_breadth = 0.1, deadrise = 20, thickness = 0.02 }
+clamps = [{ type = "rectangle", min = [0.4, 0.2], max = [0.405, 0.3] }]
+)"));
+  const Scene<2> scene = build_scene<2>(spec);
+  const auto& st = scene.structure;
+  const int layers = static_cast<int>(std::lround(T / (s0 * std::cos(beta))));
+  ASSERT_EQ(layers, 4);
+  ASSERT_EQ(st.X.size(), 2u * 20u * layers);
+  const double pitch = T / std::cos(beta) / layers;
+  double area = 0;
+  int clamped = 0, outer = 0;
+  for (std::size_t a = 0; a < st.X.size(); ++a) {
+    area += st.volume[a];
+    EXPECT_TRUE(spec.bodies[0].shape.contains({st.X[a][0], st.X[a][1], 0.0}, 2));
+    clamped += st.fixed[a];
+    const double across = std::abs(st.X[a][0] - 0.5);
+    const double above = st.X[a][1] - 0.2 - across * std::tan(beta);
+    if (std::abs(above - 0.5 * pitch) < 1e-12) ++outer;
+  }
+  EXPECT_NEAR(area, 2 * (B / std::cos(beta)) * T, 1e-12);
+  EXPECT_EQ(clamped, layers);  // the outermost left column
+  EXPECT_EQ(outer, 40);
+}
+
 // A structure body `refinement` times finer than the case's dx: its lattice has the spacing
 // dx / refinement (four times as many particles in 2D, each a quarter of the volume), its traction
 // load acts on the finer cells' faces (the same total), and the TLSPH kernel of its particles is the
@@ -371,10 +414,42 @@ clamps = [{ type = "triangle" }]
 )");
   const auto p = problems(path);
   EXPECT_TRUE(reports(p, path + ": bodies[1].shape.type: \"sphere\" is a 3D shape, but dimension = 2; "
-                                "must be one of \"rectangle\", \"circle\""));
-  EXPECT_TRUE(reports(p, path + ": bodies[1].clamps[0].type: must be one of \"rectangle\", \"circle\" "
+                                "must be one of \"rectangle\", \"circle\", \"wedge\""));
+  EXPECT_TRUE(reports(p, path + ": bodies[1].clamps[0].type: must be one of \"rectangle\", \"circle\", \"wedge\" "
                                 "(got \"triangle\")"));
   EXPECT_EQ(p.size(), 2u);  // the other keys of a shape with a bad type are not judged
+}
+
+// A wedge is a 2D structure's shape, filled on its own lattice; it is no load region.
+TEST_F(CaseLoaderTest, WedgeIsATwoDimensionalStructureShape) {
+  const std::string wedge =
+      R"(shape = { type = "wedge", apex = [0.5, 0.2], half_breadth = 0.1, deadrise = 10, thickness = 0.01 })";
+  const auto path = write("wedge.toml", kBeam + R"(
+[[bodies]]
+name = "hull"
+material = "steel"
+)" + wedge + R"(
+lattice_offset = [0.0, 0.5]
+[[bodies]]
+name = "rigid_hull"
+kind = "wall"
+)" + wedge + R"(
+[[loads]]
+type = "traction"
+body = "hull"
+region = { type = "wedge", apex = [0.5, 0.2], half_breadth = 0.1, deadrise = 10, thickness = 0.01 }
+traction = [0, -1]
+[[probes]]
+name = "keel"
+type = "structure_pressure"
+point = [0.5, 0.2]
+)");
+  const auto p = problems(path);
+  EXPECT_TRUE(reports(p, path + ": bodies[1].lattice_offset: not for a wedge, which is filled on its own lattice "
+                                "(docs/CASES.md, shapes)"));
+  EXPECT_TRUE(reports(p, path + ": bodies[2].shape: a wedge is a structure's shape (kind = \"wall\")"));
+  EXPECT_TRUE(reports(p, path + ": loads[1].region: a load's region is a rectangle, circle, box or sphere"));
+  EXPECT_TRUE(reports(p, path + ": probes[1].type: \"structure_pressure\" probes need stages.fluid = true"));
 }
 
 TEST_F(CaseLoaderTest, EmptyBoxIsAnError) {

@@ -170,7 +170,7 @@ TEST_F(CaseSchema, BundledCasesRoundTripFieldByField) {
     ++cases;
     expect_round_trip(load_case(entry.path().string()), entry.path().filename().string());
   }
-  EXPECT_EQ(cases, 13);
+  EXPECT_EQ(cases, 15);
 }
 
 TEST_F(CaseSchema, ThreeDimensionalCaseRoundTripsFieldByField) {
@@ -272,6 +272,11 @@ kind = "wall"
 material = "steel"
 shape = { type = "rectangle", min = [0.6, 0.0], max = [0.63, 0.3] }
 motion = { type = "translation", profile = "polynomial", coefficients = [0.0, 0.1, -0.5], until = 0.05 }
+[[bodies]]
+name = "hull"
+material = "steel"
+shape = { type = "wedge", apex = [1.0, 0.4], half_breadth = 0.1, deadrise = 15.0, thickness = 0.01 }
+clamps = [{ type = "rectangle", min = [0.9, 0.4], max = [0.91, 0.5] }]
 [[loads]]
 type = "edge"
 body = "beam"
@@ -302,6 +307,10 @@ point = [0.5, 0.45]
 [[probes]]
 name = "fastest"
 type = "max_speed"
+[[probes]]
+name = "keel"
+type = "structure_pressure"
+point = [1.0, 0.4]
 )");
   const std::string solid = write("lists3d.toml", R"(dimension = 3
 dx = 0.01
