@@ -9,6 +9,7 @@
 #include <fstream>
 #include <random>
 #include <set>
+#include <sstream>
 
 #include "io/case_loader.hpp"
 #include "poisson/ppe_assembly.hpp"
@@ -121,6 +122,50 @@ TEST(FreeSurface, ClassifiesAKnownBlock) {
   }
   EXPECT_EQ(counted[static_cast<int>(SurfaceClass::surface)], cols);
   EXPECT_EQ(counted[static_cast<int>(SurfaceClass::near_surface)], cols);
+  EXPECT_EQ(counted[static_cast<int>(SurfaceClass::splash)], 1);
+}
+
+// The same in 3D (issue 34): a block of 6 x 6 x 8 particles in a box tank and one drop above it. The top
+// layer is surface, the one beneath it near-surface, the rest interior, the drop splash.
+TEST(FreeSurface, ClassifiesAKnownBlockIn3D) {
+  const double dx = 0.1, width = 0.6, depth = 0.8, t = 3 * dx, top = depth + 0.5;
+  std::ostringstream s;
+  const auto box = [&s](const std::string& name, const std::string& kind, double x0, double y0, double z0, double x1,
+                        double y1, double z1) {
+    s << "[[bodies]]\nname = \"" << name << "\"\nkind = \"" << kind << "\"\n"
+      << (kind == "fluid" ? "material = \"water\"\n" : "") << "shape = { type = \"box\", min = [" << x0 << ", " << y0
+      << ", " << z0 << "], max = [" << x1 << ", " << y1 << ", " << z1 << "] }\n";
+  };
+  s << "dimension = 3\ndx = " << dx << "\nend_time = 1\ngravity = [0, 0, -9.81]\n[stages]\nstructure = false\n"
+    << "fluid = true\n[[materials]]\nname = \"water\"\nmodel = \"newtonian\"\ndensity = 1000\nviscosity = 1e-6\n";
+  box("water", "fluid", 0, 0, 0, width, width, depth);
+  box("floor", "wall", -t, -t, -t, width + t, width + t, 0);
+  box("x0", "wall", -t, -t, 0, 0, width + t, top);
+  box("x1", "wall", width, -t, 0, width + t, width + t, top);
+  box("y0", "wall", 0, -t, 0, width, 0, top);
+  box("y1", "wall", 0, width, 0, width, width + t, top);
+  s << "[[bodies]]\nname = \"drop\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
+    << "shape = { type = \"sphere\", center = [0.3, 0.3, 1.2], radius = 0.04 }\nlattice_origin = [0.25, 0.25, 1.15]\n";
+  Scene<3> scene = build_scene<3>(load_text(s.str()));
+  IsphSolver<3> solver(std::move(scene.fluid));
+  PhaseTimer timer;
+  solver.step(1e-6, timer);
+  int counted[4] = {0, 0, 0, 0};
+  for (Index a = 0; a < solver.particles().size(); ++a) {
+    if (solver.particles().kind[a] != FluidKind::fluid) continue;
+    const Vec<3> x = solver.particles().position[a];
+    SurfaceClass expected = SurfaceClass::interior;
+    if (x[2] > 1.0)
+      expected = SurfaceClass::splash;
+    else if (x[2] > depth - dx)
+      expected = SurfaceClass::surface;
+    else if (x[2] > depth - 2 * dx)
+      expected = SurfaceClass::near_surface;
+    EXPECT_EQ(solver.surface_class()[a], expected) << "particle at (" << x[0] << ", " << x[1] << ", " << x[2] << ")";
+    ++counted[static_cast<int>(solver.surface_class()[a])];
+  }
+  EXPECT_EQ(counted[static_cast<int>(SurfaceClass::surface)], 36);
+  EXPECT_EQ(counted[static_cast<int>(SurfaceClass::near_surface)], 36);
   EXPECT_EQ(counted[static_cast<int>(SurfaceClass::splash)], 1);
 }
 
