@@ -121,7 +121,8 @@ struct ShiftDisplacement {
     if (nearest_structure >= 0 && norm2(v.wall_normal[nearest_structure]) > 0) {
       const Vec<D> n_s = v.wall_normal[nearest_structure];
       const Real dr_n = dot(dr, n_s);
-      const Real relative_distance = sqrt(norm2(velocity[a] - v.wall_velocity[nearest_structure])) * dt;
+      const Real relative_distance =
+          fsi_law == FsiLayerLaw::relative ? sqrt(norm2(velocity[a] - v.wall_velocity[nearest_structure])) * dt : 0;
       dr = dr + ((fsi_layer_factor(dr_n, dot(R, n_s), relative_distance) - 1) * dr_n) * n_s;
     }
     const Real len = sqrt(norm2(dr));
@@ -137,14 +138,8 @@ struct ShiftDisplacement {
   ISPH_HD Real fsi_layer_factor(Real dr_n, Real R_n, Real relative_distance = 0) const {
     if (R_n == 0 || !(zeta > 0)) return 1;
     const Real q = 2 * coefficient * fabs(R_n);  // zeta / |d|, Eq. 29
-    switch (fsi_law) {
-      case FsiLayerLaw::literal:
-        return relocation_ratio(fabs(dr_n) * q / zeta);
-      case FsiLayerLaw::derived:
-        return 2 * relocation_ratio(q) / q;
-      case FsiLayerLaw::relative:
-        break;
-    }
+    if (fsi_law == FsiLayerLaw::literal) return relocation_ratio(fabs(dr_n) * q / zeta);
+    if (fsi_law == FsiLayerLaw::derived) return 2 * relocation_ratio(q) / q;
     if (dr_n == 0) return 1;
     return relative_distance * relocation_ratio(relative_distance * q / zeta) / fabs(dr_n);
   }

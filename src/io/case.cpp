@@ -38,13 +38,14 @@ bool wedge_contains(const Shape& s, const std::array<double, 3>& p) {
   const double scale = std::max({std::abs(s.apex[0]), std::abs(s.apex[1]), s.half_breadth});
   const double tol = kRelativeTolerance * scale;
   const double across = std::abs(p[0] - s.apex[0]);
-  const double above = p[1] - s.apex[1] - across * std::tan(s.deadrise * std::numbers::pi / 180.0);
+  const double above = p[1] - s.apex[1] - across * s.slope();
   return across <= s.half_breadth + tol && above >= -tol && above <= s.vertical_thickness() + tol;
 }
 
 }  // namespace
 
 double Shape::vertical_thickness() const { return thickness / std::cos(deadrise * std::numbers::pi / 180.0); }
+double Shape::slope() const { return std::tan(deadrise * std::numbers::pi / 180.0); }
 
 // Only the first `dimension` components count.
 bool Shape::contains(const std::array<double, 3>& p, int dimension) const {

@@ -104,6 +104,7 @@ struct Shape {
   double thickness = 0.0;        // wedge: each panel's thickness, normal to it
   // wedge: the height of a panel's section on a vertical line, thickness / cos(deadrise)
   double vertical_thickness() const;
+  double slope() const;  // wedge: the panels' rise per unit of horizontal distance, tan(deadrise)
   bool contains(const std::array<double, 3>& p, int dimension) const;
   bool operator==(const Shape&) const = default;
 };

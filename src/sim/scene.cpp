@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <numbers>
 
 #include "core/neighbour_search.hpp"
 #include "io/case_loader.hpp"
@@ -22,7 +21,7 @@ void shape_bounds(const Shape& s, Vec<D>& lo, Vec<D>& hi) {
   if (s.type == ShapeType::wedge) {
     lo[0] = s.apex[0] - s.half_breadth, hi[0] = s.apex[0] + s.half_breadth;
     lo[1] = s.apex[1];
-    hi[1] = s.apex[1] + s.half_breadth * std::tan(s.deadrise * std::numbers::pi / 180.0) + s.vertical_thickness();
+    hi[1] = s.apex[1] + s.half_breadth * s.slope() + s.vertical_thickness();
     return;
   }
   for (int d = 0; d < D; ++d) {
@@ -78,7 +77,6 @@ template <int D>
 std::vector<Vec<D>> fill_wedge(const Shape& w, Real s) {
   std::vector<Vec<D>> points;
   const WedgeLattice lattice = wedge_lattice(w, s);
-  const Real slope = std::tan(w.deadrise * std::numbers::pi / 180.0);
   const int columns = static_cast<int>(std::lround(w.half_breadth / s));
   for (int side : {-1, 1})
     for (int i = 0; i < columns; ++i) {
@@ -86,7 +84,7 @@ std::vector<Vec<D>> fill_wedge(const Shape& w, Real s) {
       for (int j = 0; j < lattice.layers; ++j) {
         Vec<D> p = Vec<D>::zero();
         p[0] = w.apex[0] + side * across;
-        p[1] = w.apex[1] + across * slope + (j + 0.5) * lattice.pitch;
+        p[1] = w.apex[1] + across * w.slope() + (j + 0.5) * lattice.pitch;
         points.push_back(p);
       }
     }

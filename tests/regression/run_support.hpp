@@ -121,6 +121,13 @@ inline double interpolate(const std::vector<double>& time, const std::vector<dou
   return u[k - 1] + (u[k] - u[k - 1]) * (t - time[k - 1]) / (time[k] - time[k - 1]);
 }
 
+// A reference curve (read_reference) linearly interpolated at time t.
+inline double interpolate(const std::vector<std::pair<double, double>>& curve, double t) {
+  std::vector<double> time, u;
+  for (const auto& [ti, ui] : curve) time.push_back(ti), u.push_back(ui);
+  return interpolate(time, u, t);
+}
+
 // RMSE of a run's u(t) against the reference points inside the run's time range (as
 // scripts/coupled_report.py computes it).
 inline double rmse_against(const std::vector<double>& time, const std::vector<double>& u,

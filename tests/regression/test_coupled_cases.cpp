@@ -181,9 +181,7 @@ void expect_gate_tip_like_references(const std::string& name, double end, const 
   for (const char* key : {"khayyer_2018_isph_sph", "yang_2012_sph_fem", "ng_2020_sph_vcpm_alpha_1"}) {
     const auto rows = read_reference(std::string("antoci_2007_elastic_gate/ng_2020_elastic_dam_break_x_displacement_") + key + ".csv");
     ASSERT_GT(rows.size(), 2u) << key;
-    std::vector<double> t, u;
-    for (const auto& [time, value] : rows) t.push_back(time), u.push_back(value);
-    const double at_end = interpolate(t, u, end);
+    const double at_end = interpolate(rows, end);
     lo = std::min(lo, at_end), hi = std::max(hi, at_end);
   }
   const auto probes = read_csv(out / "probes.csv");
@@ -259,25 +257,21 @@ TEST(CoupledWedge, SlammingBendsThePanelsAndLoadsTheKeelLikeTheAnalyticalSolutio
   for (std::size_t k = 0; k < t.size(); ++k) deflection.push_back(probes.at("deflection.uy")[k] + 30 * t[k]);
   const double at_2ms = interpolate(t, deflection, 0.002);
   EXPECT_NEAR(at_2ms, 9.04e-3, 0.03 * 9.04e-3);
-  const auto curve = [](const std::string& quantity) {
-    std::vector<double> time, value;
-    for (const auto& [ti, v] :
-         read_reference("zhang_2021_elastic_wedge_water_entry/zhang_2021_high_speed_water_entry_of_an_"
-                        "elastic_wedge_" +
-                        quantity + "_analytical.csv"))
-      time.push_back(ti), value.push_back(v);
-    return std::pair{time, value};
+  const auto analytical = [](const std::string& quantity) {
+    return read_reference(
+        "zhang_2021_elastic_wedge_water_entry/zhang_2021_high_speed_water_entry_of_an_elastic_wedge_" + quantity +
+        "_analytical.csv");
   };
-  const auto [tw, wa] = curve("y_displacement");
-  EXPECT_NEAR(at_2ms, interpolate(tw, wa, 0.002), 0.15 * interpolate(tw, wa, 0.002));
+  const double analytical_at_2ms = interpolate(analytical("y_displacement"), 0.002);
+  EXPECT_NEAR(at_2ms, analytical_at_2ms, 0.15 * analytical_at_2ms);
 
   // The keel's pressure over 0.2-1.2 ms, ours and the analytical one's (in units of 10 MPa) at our times.
-  const auto [tp, pa] = curve("pressure_point_A");
+  const auto keel_curve = analytical("pressure_point_A");
   double keel = 0, keel_analytical = 0, arrival = 0;
   int samples = 0;
   for (std::size_t k = 0; k < t.size(); ++k) {
     if (t[k] >= 2e-4 && t[k] <= 1.2e-3)
-      keel += probes.at("pressure_A.p")[k], keel_analytical += 1e7 * interpolate(tp, pa, t[k]), ++samples;
+      keel += probes.at("pressure_A.p")[k], keel_analytical += 1e7 * interpolate(keel_curve, t[k]), ++samples;
     if (arrival == 0 && probes.at("pressure_C.p")[k] > 5e6) arrival = t[k];
   }
   keel /= samples, keel_analytical /= samples;
