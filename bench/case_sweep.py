@@ -1,12 +1,13 @@
 #!/usr/bin/python3
 """Whole-case benchmark driver: the dam break and the elastic gate scaled from 1e4 to millions of
-fluid particles (2D), a few steps from rest each, on the CPU or the GPU.
+fluid particles (2D), and the 3D dam break of bench/dam_break_3d.toml, a few steps from rest each, on
+the CPU or the GPU.
 
-    /usr/bin/python3 bench/case_sweep.py [--cases dam_break,elastic_gate] [--sizes 1e4,1e5,1e6,4e6]
+    /usr/bin/python3 bench/case_sweep.py [--cases dam_break,elastic_gate,dam_break_3d] [--sizes 1e4,1e5,1e6,4e6]
         [--device cpu|cuda] [--threads 1,2] [--backend eigen] [--preconditioner P] [--out DIR]
         [--kernels] [--timeout SECONDS]
 
-For each case, size and thread count it runs `build/isph run` with dx = sqrt(fluid area / size), walls
+For each case, size and thread count it runs `build/isph run` with dx = (fluid area or volume / size)^(1/D), walls
 three particles thick at that dx, no snapshots, and an end time of (steps - 1/2) fluid steps estimated
 from Eq. 49 at rest (20 steps below 5e4 particles, 8 below 5e5, 3 above). From each run's
 summary.json it reports fluid particle-steps per second of stepping time, structure particle-substeps per
@@ -27,12 +28,14 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 ISPH = os.environ.get("ISPH", os.path.join(ROOT, "build", "isph"))
 G = 9.81
 
-# The scaled geometry of each case: the fluid's area and height (for dx and the reference velocity of
-# Eq. 49) and its walls as rectangles of the wall thickness t = 3 dx (the bundled files use their own dx).
+# The scaled geometry of each case: the fluid's area (2D) or volume (3D) and height (for dx and the
+# reference velocity of Eq. 49) and its walls as rectangles or boxes of the wall thickness t = 3 dx (the
+# case files use their own dx).
+TANK_3D = (3.22, 1.0, 1.0)  # bench/dam_break_3d.toml
 CASES = {
     "dam_break": {
         "file": "cases/dam_break.toml",
-        "fluid_area": 0.146 * 0.292,
+        "fluid_measure": 0.146 * 0.292,
         "fluid_height": 0.292,
         "walls": lambda t: {
             "floor": ([-t, -t], [4 * 0.146 + t, 0.0]),
@@ -43,12 +46,25 @@ CASES = {
     "elastic_gate": {
         "file": "cases/elastic_gate.toml",
         "sets": ["bodies.gate.refinement=1"],  # the gate at the water's spacing, as the sizes scale both
-        "fluid_area": 0.1 * 0.14,
+        "fluid_measure": 0.1 * 0.14,
         "fluid_height": 0.14,
         "walls": lambda t: {
             "floor": ([-t, -t], [0.5 + t, 0.0]),
             "left_wall": ([-t, 0.0], [0.0, 0.2]),
             "right_wall": ([0.5, 0.0], [0.5 + t, 0.2]),
+        },
+    },
+    "dam_break_3d": {
+        "file": "bench/dam_break_3d.toml",
+        "dimension": 3,
+        "fluid_measure": 1.228 * 1.0 * 0.55,
+        "fluid_height": 0.55,
+        "walls": lambda t: {
+            "floor": ([-t, -t, -t], [TANK_3D[0] + t, TANK_3D[1] + t, 0.0]),
+            "wall_x0": ([-t, -t, 0.0], [0.0, TANK_3D[1] + t, TANK_3D[2]]),
+            "wall_x1": ([TANK_3D[0], -t, 0.0], [TANK_3D[0] + t, TANK_3D[1] + t, TANK_3D[2]]),
+            "wall_y0": ([0.0, -t, 0.0], [TANK_3D[0], 0.0, TANK_3D[2]]),
+            "wall_y1": ([0.0, TANK_3D[1], 0.0], [TANK_3D[0], TANK_3D[1] + t, TANK_3D[2]]),
         },
     },
 }
@@ -58,7 +74,8 @@ PHASES = ("neighbours", "predictor", "free_surface", "ppe_assembly", "ppe_solve"
 
 def run_args(case, size, args):
     c = CASES[case]
-    dx = math.sqrt(c["fluid_area"] / size)
+    dimension = c.get("dimension", 2)
+    dx = (c["fluid_measure"] / size) ** (1 / dimension)
     steps = 20 if size < 5e4 else (8 if size < 5e5 else 3)
     dt = 0.1 * 1.2 * dx / math.sqrt(2 * G * c["fluid_height"])  # Eq. 49 at rest, default courant 0.1
     sets = [f"dx={dx:.9g}", f"end_time={(steps - 0.5) * dt:.9g}", "output.snapshots=false",
@@ -66,8 +83,9 @@ def run_args(case, size, args):
     if args.preconditioner:
         sets.append(f"fluid.ppe.preconditioner={args.preconditioner}")
     for name, (lo, hi) in c["walls"](3 * dx).items():
-        sets.append(f"bodies.{name}.shape={{type=\"rectangle\",min=[{lo[0]:.9g},{lo[1]:.9g}],"
-                    f"max=[{hi[0]:.9g},{hi[1]:.9g}]}}")
+        shape = "rectangle" if dimension == 2 else "box"
+        sets.append(f"bodies.{name}.shape={{type=\"{shape}\",min=[{','.join(f'{v:.9g}' for v in lo)}],"
+                    f"max=[{','.join(f'{v:.9g}' for v in hi)}]}}")
     return c["file"], sets
 
 

@@ -3,6 +3,12 @@
 //
 //   build/isph_ppe_bench [--stencil 5|9|21] [--tol 1e-8] [--max-iterations 1000] [--skip-over 300]
 //                        [--only SUBSTRING] [--spmv-only] [--verbose] [SIZE...]   (default sizes: 1e4 1e5 1e6)
+//   build/isph_ppe_bench --matrix FILE [--matrix FILE]... [--tol T] [--only SUBSTRING]
+//
+// With --matrix, the systems are PPEs captured from the time loop (bench/ppe_capture.cpp), each solved
+// from the captured start (the last step's pressure) by every combination, three times: the table gives
+// the faster of the last two solves (the first pays MPI's and hypre's start-up), its set-up (copy and
+// preconditioner) and Krylov iterations separately.
 //
 // The system: an n x n grid (n = round(sqrt(SIZE))), a non-symmetric convection-diffusion M-matrix with
 // the given stencil (21 points, the default, is about the 20-30 neighbours of a 2D SPH particle):
@@ -18,12 +24,14 @@
 
 #include <chrono>
 #include <cmath>
-#include <cstring>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -84,11 +92,75 @@ double host_copy_bandwidth() {
   return 2.0 * bytes * copies / std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// A system written by isph_ppe_capture (its header comment gives the layout).
+struct CapturedSystem {
+  int dimension = 2;
+  CsrMatrix A;
+  std::vector<double> b, start;
+};
+
+CapturedSystem read_captured(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char magic[8] = {};
+  std::int64_t rows = 0, nonzeros = 0, dimension = 0;
+  in.read(magic, 8);
+  in.read(reinterpret_cast<char*>(&rows), 8);
+  in.read(reinterpret_cast<char*>(&nonzeros), 8);
+  in.read(reinterpret_cast<char*>(&dimension), 8);
+  if (!in || std::string(magic, 8) != "ISPHPPE1" || rows <= 0 || nonzeros < rows || dimension < 2 || dimension > 3)
+    throw std::runtime_error(path + " is not a system written by isph_ppe_capture");
+  CapturedSystem s;
+  s.dimension = static_cast<int>(dimension);
+  s.A.rows = static_cast<int>(rows);
+  s.A.row_offset.resize(rows + 1);
+  s.A.col.resize(nonzeros);
+  s.A.val.resize(nonzeros);
+  s.b.resize(rows);
+  s.start.resize(rows);
+  const auto get = [&in](auto& v) { in.read(reinterpret_cast<char*>(v.data()), sizeof(v[0]) * v.size()); };
+  get(s.A.row_offset);
+  get(s.A.col);
+  get(s.A.val);
+  get(s.b);
+  get(s.start);
+  if (!in) throw std::runtime_error(path + " ends early");
+  return s;
+}
+
+void bench_captured(const std::vector<std::string>& paths, const std::vector<SolverSettings>& combos) {
+  std::printf(
+      "| system | D | unknowns | nonzeros | solver | set-up [s] | solve [s] | total [s] | iterations | rel. residual | "
+      "converged |\n");
+  std::printf("|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---|\n");
+  std::fflush(stdout);
+  for (const std::string& path : paths) {
+    const CapturedSystem sys = read_captured(path);
+    const std::string file = path.substr(path.find_last_of('/') + 1);
+    for (SolverSettings settings : combos) {
+      settings.dimension = sys.dimension;
+      auto solver = make_linear_solver(settings);
+      SolveReport r;
+      for (int pass = 0; pass < 3; ++pass) {
+        std::vector<double> x = sys.start;
+        const SolveReport this_pass = solver->solve(sys.A, sys.b, x);
+        if (pass == 1 || (pass == 2 && this_pass.seconds < r.seconds)) r = this_pass;
+      }
+      std::printf("| %s | %d | %d | %zu | %s | %.3f | %.3f | %.3f | %d | %.2e | %s |\n", file.c_str(), sys.dimension,
+                  sys.A.rows, sys.A.col.size(), solver->name().c_str(), r.setup_seconds, r.seconds - r.setup_seconds,
+                  r.seconds, r.iterations, r.relative_residual, r.converged ? "yes" : "no");
+      if (!r.converged) std::printf("<!-- %s: %s -->\n", solver->name().c_str(), r.message.c_str());
+      std::fflush(stdout);
+    }
+  }
+}
+
 [[noreturn]] void usage(const char* why) {
-  std::fprintf(stderr,
-               "isph_ppe_bench: %s\nusage: isph_ppe_bench [--stencil 5|9|21] [--tol T] [--max-iterations N] "
-               "[--skip-over SECONDS] [--only SUBSTRING] [--spmv-only] [--verbose] [SIZE...]\n",
-               why);
+  std::fprintf(
+      stderr,
+      "isph_ppe_bench: %s\nusage: isph_ppe_bench [--stencil 5|9|21] [--tol T] [--max-iterations N] "
+      "[--skip-over SECONDS] [--only SUBSTRING] [--spmv-only] [--verbose] [SIZE...]\n"
+      "       isph_ppe_bench --matrix FILE [--matrix FILE]... [--tol T] [--max-iterations N] [--only SUBSTRING]\n",
+      why);
   std::exit(2);
 }
 
@@ -100,6 +172,7 @@ int main(int argc, char** argv) {
   std::string only;
   bool verbose = false, spmv_only = false;
   std::vector<double> sizes;
+  std::vector<std::string> matrices;
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
     const auto value = [&]() -> std::string {
@@ -113,6 +186,8 @@ int main(int argc, char** argv) {
       else if (arg == "--skip-over") skip_over = std::stod(value());
       else if (arg == "--only") only = value();
       else if (arg == "--verbose") verbose = true;
+      else if (arg == "--matrix")
+        matrices.push_back(value());
       else if (arg == "--spmv-only") spmv_only = true;
       else if (arg == "-h" || arg == "--help") usage("help");
       else sizes.push_back(std::stod(arg));
@@ -140,6 +215,16 @@ int main(int argc, char** argv) {
       }
   }
 
+  if (!matrices.empty()) {
+    std::printf("<!-- isph_ppe_bench: %s, %d OpenMP threads, captured systems, tolerance %.0e, max %d iterations -->\n",
+                cpu_model().c_str(), omp_get_max_threads(), tol, max_iterations);
+    try {
+      bench_captured(matrices, combos);
+    } catch (const std::runtime_error& e) {
+      usage(e.what());
+    }
+    return 0;
+  }
   std::printf("<!-- isph_ppe_bench: %s, %d OpenMP threads, %d-point stencil, tolerance %.0e, max %d iterations -->\n",
               cpu_model().c_str(), omp_get_max_threads(), stencil, tol, max_iterations);
   if (!spmv_only) {

@@ -102,7 +102,16 @@ class HypreSolver final : public KrylovSolverFrame {
       HYPRE_BoomerAMGSetCoarsenType(amg_, 10);         // HMIS
       HYPRE_BoomerAMGSetInterpType(amg_, 6);           // extended+i
       HYPRE_BoomerAMGSetPMaxElmts(amg_, 4);            // interpolation truncated to 4 entries per row
-      HYPRE_BoomerAMGSetStrongThreshold(amg_, 0.25);   // 2D
+      if (settings_.dimension == 3) {
+        // 3D stencils (about 60 neighbours) make the hierarchy dense: a stricter strength of connection
+        // and one level of aggressive coarsening (multipass interpolation) halve the 1e6-unknown
+        // dam-break PPE's set-up and solve (docs/SOLVERS.md, "Captured PPEs").
+        HYPRE_BoomerAMGSetStrongThreshold(amg_, 0.5);
+        HYPRE_BoomerAMGSetAggNumLevels(amg_, 1);
+        HYPRE_BoomerAMGSetAggInterpType(amg_, 4);
+      } else {
+        HYPRE_BoomerAMGSetStrongThreshold(amg_, 0.25);
+      }
       HYPRE_BoomerAMGSetCycleRelaxType(amg_, 13, 1);   // l1 Gauss-Seidel forward on the way down,
       HYPRE_BoomerAMGSetCycleRelaxType(amg_, 14, 2);   // backward on the way up,
       HYPRE_BoomerAMGSetCycleRelaxType(amg_, 9, 3);    // Gaussian elimination on the coarsest level

@@ -336,6 +336,7 @@ SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, std::span<const doub
     return done(notes + "the initial guess meets the tolerance");
   }
 
+  const auto setup_start = std::chrono::steady_clock::now();
   if (prepared_ && reuse == MatrixReuse::all) {
     update_rhs(b);
   } else if (prepared_ && refresh_matrix(A, b)) {
@@ -356,6 +357,7 @@ SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, std::span<const doub
     guard.armed = false;
     prepared_ = true;
   }
+  report.setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();
 
   x0_.resize(n);
   parallel_for(exec, n, CopyElements<double>{x.data(), x0_.data()});

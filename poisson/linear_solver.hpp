@@ -69,6 +69,7 @@ struct SolverSettings {
   double tolerance = 1e-8;             // relative residual ||b - Ax|| / ||b||
   int max_iterations = 1000;           // Krylov iterations in total (over restarts and refinement passes)
   int gmres_restart = 50;              // Krylov subspace dimension of GMRES
+  int dimension = 2;                   // the PPE's space dimension: BoomerAMG's coarsening (docs/SOLVERS.md)
 };
 
 struct SolveReport {
@@ -76,6 +77,7 @@ struct SolveReport {
   int iterations = 0;
   double relative_residual = 0;  // true ||b - A x|| / ||b|| of the returned x (||b - A x|| when b = 0)
   double seconds = 0;            // wall time of the whole call: copies, preconditioner setup, solve
+  double setup_seconds = 0;      // the part of it spent copying A and b in and building the preconditioner
   std::string message;
 };
 

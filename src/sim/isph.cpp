@@ -13,8 +13,9 @@ namespace isph {
 
 namespace {
 
-SolverSettings solver_settings(const PpeSolverSpec& s, SolverBackend backend) {
+SolverSettings solver_settings(const PpeSolverSpec& s, SolverBackend backend, int dimension) {
   SolverSettings out;
+  out.dimension = dimension;
   out.backend = backend;
   out.method = s.method;
   out.preconditioner = s.preconditioner;
@@ -67,10 +68,11 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
   const Real full = D;  // div r in a full support
   thresholds_.chi = settings_.surface_threshold > 0 ? settings_.surface_threshold : full - 0.6;
   thresholds_.chi_full = settings_.surface_full > 0 ? settings_.surface_full : full - 0.4;
-  solver_ = make_linear_solver(solver_settings(settings_.ppe, settings_.ppe.backend));
+  solver_ = make_linear_solver(solver_settings(settings_.ppe, settings_.ppe.backend, D));
   if (settings_.ppe.fallback != FallbackSolver::none)
     fallback_ = make_linear_solver(solver_settings(
-        settings_.ppe, settings_.ppe.fallback == FallbackSolver::hypre ? SolverBackend::hypre : SolverBackend::eigen));
+        settings_.ppe, settings_.ppe.fallback == FallbackSolver::hypre ? SolverBackend::hypre : SolverBackend::eigen,
+        D));
   solver_name_ = solver_->name();
 }
 

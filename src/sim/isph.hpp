@@ -46,6 +46,10 @@ class IsphSolver final : public FluidModel<D> {
   const StateVector<Real>& position_divergence() const { return div_r_; }
   const StateVector<Vec<D>>& shift() const { return shift_; }
   const std::string& ppe_solver_name() const { return solver_name_; }
+  // After begin_step: the assembled PPE (zeros dropped, columns sorted) and its right-hand side; the
+  // pressure of the last step is the solve's start (bench/ppe_capture.cpp writes the three).
+  const CsrMatrix& ppe_matrix() const { return matrix_; }
+  std::span<const double> ppe_rhs() const { return {rhs_.data(), rhs_.size()}; }
 
   // The structure's acceleration over the current step in the PPE rows of structure particles (g - a_s,
   // PpeRowFill): a_s itself, or with the structure's inertia in the rows, the part a~_s of it that the
