@@ -170,7 +170,7 @@ TEST_F(CaseSchema, BundledCasesRoundTripFieldByField) {
     ++cases;
     expect_round_trip(load_case(entry.path().string()), entry.path().filename().string());
   }
-  EXPECT_EQ(cases, 15);
+  EXPECT_EQ(cases, 16);
 }
 
 TEST_F(CaseSchema, ThreeDimensionalCaseRoundTripsFieldByField) {
