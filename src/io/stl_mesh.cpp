@@ -1,5 +1,6 @@
 #include "io/stl_mesh.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <stdexcept>
 #include <vector>
@@ -46,12 +47,20 @@ std::shared_ptr<const StlMesh> StlMesh::load(const std::string& path, double sca
   // before it becomes a mesh, as CGAL's read_polygon_mesh does, whatever the file's extension.
   std::vector<Point> points;
   std::vector<std::vector<std::size_t>> faces;
-  if (!CGAL::IO::read_STL(path, points, faces) || faces.empty())
+  if (!CGAL::IO::read_STL(path, points, faces))
     throw std::runtime_error("cannot read " + quoted(path) + " as an STL file (ASCII or binary) of triangles");
-  for (Point& p : points)
+  for (Point& p : points) {
+    if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z()))
+      throw std::runtime_error(quoted(path) + " has a vertex whose coordinates are not finite numbers");
     p = Point(scale * p.x() + translate[0], scale * p.y() + translate[1], scale * p.z() + translate[2]);
+  }
   PMP::repair_polygon_soup(points, faces);
+  if (faces.empty()) throw std::runtime_error(quoted(path) + " holds no triangle with three distinct corners");
+  // Orienting splits the soup where more than two triangles share an edge; a soup it cannot mend is no
+  // surface (and would break the conversion's precondition).
   PMP::orient_polygon_soup(points, faces);
+  if (!PMP::is_polygon_soup_a_polygon_mesh(faces))
+    throw std::runtime_error(quoted(path) + "'s triangles do not form a surface");
   auto impl = std::make_unique<Impl>();
   PMP::polygon_soup_to_polygon_mesh(points, faces, impl->mesh);
   for (const auto h : impl->mesh.halfedges()) impl->border_edges += impl->mesh.is_border(h);

@@ -86,17 +86,6 @@ class GeometryTest : public ScratchDirTest {
   return failure;
 }
 
-// Whether one of `problems` starts with `start` and contains `part`.
-::testing::AssertionResult reports_like(const std::vector<std::string>& problems, const std::string& start,
-                                        const std::string& part) {
-  for (const auto& p : problems)
-    if (p.rfind(start, 0) == 0 && p.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-  auto failure = ::testing::AssertionFailure()
-                 << "no problem \"" << start << "...\" with \"" << part << "\" among the " << problems.size() << ":";
-  for (const auto& p : problems) failure << "\n  " << p;
-  return failure;
-}
-
 double dot(const Point& a, const Point& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 Point minus(const Point& a, const Point& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
 
@@ -268,6 +257,22 @@ void write_ascii_stl(const std::string& path, const std::vector<Triangle>& mesh)
   std::fclose(f);
 }
 
+const Point kCenter{0.3, 0.3, 0.3};
+constexpr double kRadius = 0.1;
+
+#ifdef ISPH_HAVE_CGAL
+
+// Whether one of `problems` starts with `start` and contains `part`.
+::testing::AssertionResult reports_like(const std::vector<std::string>& problems, const std::string& start,
+                                        const std::string& part) {
+  for (const auto& p : problems)
+    if (p.rfind(start, 0) == 0 && p.find(part) != std::string::npos) return ::testing::AssertionSuccess();
+  auto failure = ::testing::AssertionFailure()
+                 << "no problem \"" << start << "...\" with \"" << part << "\" among the " << problems.size() << ":";
+  for (const auto& p : problems) failure << "\n  " << p;
+  return failure;
+}
+
 // Binary STL: an 80-byte header, the count, then per triangle a normal and three corners (float32) and
 // two bytes of attributes.
 void write_binary_stl(const std::string& path, const std::vector<Triangle>& mesh) {
@@ -285,11 +290,6 @@ void write_binary_stl(const std::string& path, const std::vector<Triangle>& mesh
     out.write(reinterpret_cast<const char*>(&attributes), 2);
   }
 }
-
-const Point kCenter{0.3, 0.3, 0.3};
-constexpr double kRadius = 0.1;
-
-#ifdef ISPH_HAVE_CGAL
 
 // The sphere of radius 0.1 m = 10 dx as a primitive and as a closed mesh of 8192 triangles (ASCII and
 // binary STL) gives the same particles, 4224 of them at the same positions. The mesh lies inside the sphere
@@ -340,7 +340,8 @@ TEST_F(GeometryTest, SphereFromStlIsTheSphere) {
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(scaled.bodies[0].lattice_origin[k], 0.1, 1e-12);
 }
 
-// An open mesh (the sphere less three triangles) is refused, naming the file and its border edges.
+// An open mesh (the sphere less three triangles) is refused, naming the file and its border edges; so
+// are a file that is no STL and a missing one.
 TEST_F(GeometryTest, OpenMeshIsRefused) {
   auto mesh = octasphere(kCenter, kRadius, 4);
   for (const std::size_t gone : {1500u, 900u, 10u}) mesh.erase(mesh.begin() + static_cast<std::ptrdiff_t>(gone));
@@ -355,6 +356,10 @@ TEST_F(GeometryTest, OpenMeshIsRefused) {
   EXPECT_TRUE(reports(problems(path), path + ": bodies[0].shape.file: \"" + file + "\" is not a closed surface (" +
                                           std::to_string(border) +
                                           " edges border one triangle only); an stl shape must be watertight"));
+  write("junk.stl", "not a mesh");  // neither ASCII STL (no "solid") nor binary (no triangle)
+  const auto junk = write("junk.toml", with_shape(kSolid, R"({ type = "stl", file = "junk.stl" })"));
+  EXPECT_TRUE(reports(problems(junk), junk + ": bodies[0].shape.file: \"" + (dir_ / "junk.stl").string() +
+                                          "\" holds no triangle with three distinct corners"));
   const auto missing = write("missing.toml", with_shape(kSolid, R"({ type = "stl", file = "none.stl" })"));
   EXPECT_TRUE(reports(problems(missing), missing + ": bodies[0].shape.file: cannot open \"" +
                                              (dir_ / "none.stl").lexically_normal().string() + "\""));
