@@ -74,7 +74,6 @@ StlMesh::StlMesh(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {
   hi_ = {box.xmax(), box.ymax(), box.zmax()};
 }
 
-std::size_t StlMesh::triangles() const { return impl_->mesh.number_of_faces(); }
 std::size_t StlMesh::border_edges() const { return impl_->border_edges; }
 
 bool StlMesh::inside(const std::array<double, 3>& p) const {
@@ -93,7 +92,6 @@ std::shared_ptr<const StlMesh> StlMesh::load(const std::string& path, double, co
 }
 
 StlMesh::StlMesh(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
-std::size_t StlMesh::triangles() const { return 0; }
 std::size_t StlMesh::border_edges() const { return 0; }
 bool StlMesh::inside(const std::array<double, 3>&) const { return false; }
 

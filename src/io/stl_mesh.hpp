@@ -19,7 +19,6 @@ class StlMesh {
                                              const std::array<double, 3>& translate);
   ~StlMesh();
 
-  std::size_t triangles() const;
   // The edges that border only one triangle: 0 for a closed (watertight) surface.
   std::size_t border_edges() const;
   bool closed() const { return border_edges() == 0; }
