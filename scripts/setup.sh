@@ -12,6 +12,7 @@ packages=(
   libgtest-dev libgmock-dev googletest
   libhdf5-dev              # snapshots (optional at configure time)
   libhypre-dev libopenmpi-dev openmpi-bin   # BoomerAMG (optional at configure time)
+  libcgal-dev              # bodies from STL meshes (optional at configure time)
   python3-matplotlib python3-numpy python3-h5py   # plotting scripts, run with /usr/bin/python3
 )
 

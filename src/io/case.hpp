@@ -3,8 +3,10 @@
 // The loader (case_loader.cpp) fills these structs; nothing downstream reads TOML.
 // Every key below is documented in docs/CASES.md; units are SI.
 #include <array>
+#include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/enum_names.hpp"
@@ -81,23 +83,43 @@ constexpr EnumName<ProbeType> kProbeTypeNames[] = {{ProbeType::displacement, "di
                                                    {ProbeType::max_speed, "max_speed"}};
 constexpr std::span<const EnumName<ProbeType>> enum_names(ProbeType) { return kProbeTypeNames; }
 
-// A geometric primitive. In 2D: "rectangle" (min, max) or "circle" (center, radius).
-// In 3D: "box" (min, max) or "sphere" (center, radius). Unused components stay zero.
-enum class ShapeType { rectangle, circle, wedge, box, sphere };
+// A geometric primitive. In 2D: "rectangle" (min, max), "circle" (center, radius) or "wedge". In 3D:
+// "box" (min, max), "sphere" (center, radius), "cylinder" (base, axis, radius) or "stl" (a closed
+// triangle mesh from a file). Unused components stay zero.
+enum class ShapeType { rectangle, circle, wedge, box, sphere, cylinder, stl };
 constexpr EnumName<ShapeType> kShapeTypeNames[] = {{ShapeType::rectangle, "rectangle"},
                                                    {ShapeType::circle, "circle"},
                                                    {ShapeType::wedge, "wedge"},
                                                    {ShapeType::box, "box"},
-                                                   {ShapeType::sphere, "sphere"}};
+                                                   {ShapeType::sphere, "sphere"},
+                                                   {ShapeType::cylinder, "cylinder"},
+                                                   {ShapeType::stl, "stl"}};
 constexpr std::span<const EnumName<ShapeType>> enum_names(ShapeType) { return kShapeTypeNames; }
 inline bool is_ball(ShapeType t) { return t == ShapeType::circle || t == ShapeType::sphere; }
+inline bool is_planar(ShapeType t) {
+  return t == ShapeType::rectangle || t == ShapeType::circle || t == ShapeType::wedge;
+}
+
+class StlMesh;  // io/stl_mesh.hpp
+// The mesh of an "stl" shape, read by the loader. It follows from the shape's file, scale and translate,
+// which the shapes' comparison compares.
+struct ShapeMesh {
+  std::shared_ptr<const StlMesh> mesh;
+  bool operator==(const ShapeMesh&) const { return true; }
+};
 
 struct Shape {
   ShapeType type = ShapeType::rectangle;
   std::array<double, 3> min{};      // rectangle / box
   std::array<double, 3> max{};
   std::array<double, 3> center{};   // circle / sphere
-  double radius = 0.0;
+  double radius = 0.0;              // circle / sphere / cylinder
+  std::array<double, 3> base{};     // cylinder: the centre of one end
+  std::array<double, 3> axis{};     // cylinder: from base to the other end's centre (its length is the cylinder's)
+  std::string file{};               // stl: the mesh's file (an absolute path once loaded)
+  double scale = 1.0;               // stl: each vertex v becomes scale v + translate
+  std::array<double, 3> translate{};
+  ShapeMesh mesh{};              // stl
   std::array<double, 3> apex{};  // wedge (2D): the keel, the lowest point of its outer face
   double half_breadth = 0.0;     // wedge: horizontal distance from the keel to each chine
   double deadrise = 0.0;         // wedge: each panel's angle to the horizontal [degrees]
@@ -106,6 +128,8 @@ struct Shape {
   double vertical_thickness() const;
   double slope() const;  // wedge: the panels' rise per unit of horizontal distance, tan(deadrise)
   bool contains(const std::array<double, 3>& p, int dimension) const;
+  // The bounding box's corners in the first `dimension` components (the others zero).
+  std::pair<std::array<double, 3>, std::array<double, 3>> bounding_box(int dimension) const;
   bool operator==(const Shape&) const = default;
 };
 

@@ -20,6 +20,7 @@
 
 #include "io/case_schema.hpp"
 #include "io/list_schema.hpp"
+#include "io/stl_mesh.hpp"
 #include "poisson/linear_solver.hpp"
 
 namespace isph {
@@ -325,8 +326,28 @@ std::optional<std::set<std::string>> read_item(Table& t, Item& item, const std::
   return read;
 }
 
+// An stl shape's mesh is read here, relative to the case file's folder, and must be closed; the resolved
+// configuration names the file by its absolute path.
+void read_mesh(Table& t, Shape& s) {
+  std::filesystem::path file(s.file);
+  if (file.is_relative()) file = std::filesystem::path(t.ctx().file).parent_path() / file;
+  s.file = std::filesystem::absolute(file).lexically_normal().string();
+  try {
+    s.mesh.mesh = StlMesh::load(s.file, s.scale, s.translate);
+  } catch (const std::exception& e) {
+    t.problem("file", e.what());
+    return;
+  }
+  if (!s.mesh.mesh->closed()) {
+    t.problem("file", toml_string(s.file) + " is not a closed surface (" + std::to_string(s.mesh.mesh->border_edges()) +
+                          " edges border one triangle only); an stl shape must be watertight");
+    s.mesh.mesh.reset();
+  }
+}
+
 void read_fields(Table& t, Shape& s) {
   const auto read = read_item(t, s, shape_keys());
+  if (read && s.type == ShapeType::stl && read->count("file")) read_mesh(t, s);
   if (!read || is_ball(s.type) || !read->count("min") || !read->count("max")) return;
   for (int k = 0; k < t.ctx().dimension; ++k) {
     if (s.min[k] < s.max[k]) continue;
@@ -651,8 +672,30 @@ void read_motion_files(CaseSpec& c, Context& ctx) {
   }
 }
 
+// A mesh whose bounding box holds more lattice points at its body's spacing than a run could hold is in
+// other units (STL has none); it is refused here, as filling it would take hours.
+void check_mesh_sizes(const CaseSpec& c, Context& ctx) {
+  constexpr double kMaxLatticePoints = 1e8;
+  for (std::size_t i = 0; i < c.bodies.size(); ++i) {
+    const BodySpec& b = c.bodies[i];
+    if (b.shape.type != ShapeType::stl || !b.shape.mesh.mesh || !(c.dx > 0)) continue;
+    const double s = b.spacing(c.dx);
+    const auto [lo, hi] = b.shape.bounding_box(c.dimension);
+    double points = 1;
+    for (int k = 0; k < c.dimension; ++k) points *= std::ceil((hi[k] - lo[k]) / s);
+    if (points <= kMaxLatticePoints) continue;
+    char size[160];
+    std::snprintf(size, sizeof size, "%g x %g x %g m, %.2g lattice points at the body's spacing of %g m (at most %g)",
+                  hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], points, s, kMaxLatticePoints);
+    ctx.problem(index_path("bodies", i) + ".shape.scale",
+                "the mesh " + toml_string(b.shape.file) + " spans " + size +
+                    ": STL has no units, and a file in millimetres needs scale = 0.001 (in centimetres, 0.01)");
+  }
+}
+
 void check_lists(CaseSpec& c, Context& ctx) {
   read_motion_files(c, ctx);
+  check_mesh_sizes(c, ctx);
   check_unique_names(c.materials, "materials", ctx);
   check_unique_names(c.bodies, "bodies", ctx);
   check_unique_names(c.probes, "probes", ctx);

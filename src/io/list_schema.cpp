@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <type_traits>
 
+#include "io/stl_mesh.hpp"
+
 namespace isph {
 
 namespace {
@@ -174,23 +176,32 @@ std::vector<ListKey<Shape>> declare_shapes() {
     return "only for type = \"circle\" or \"sphere\" (" + is("type", s.type) + ")";
   };
   const auto not_wedge = [](const Shape& s, int) { return "only for type = \"wedge\" (" + is("type", s.type) + ")"; };
+  const auto cylinder = [](const Shape& s, int) { return s.type == ShapeType::cylinder; };
+  const auto not_cylinder = [](const Shape& s, int) {
+    return "only for type = \"cylinder\" (" + is("type", s.type) + ")";
+  };
+  const auto stl = [](const Shape& s, int) { return s.type == ShapeType::stl; };
+  const auto not_stl = [](const Shape& s, int) { return "only for type = \"stl\" (" + is("type", s.type) + ")"; };
   add(
       keys, "type", [](Shape & s) -> auto& { return s.type; })
       .required()
       .discriminator()
       .choices_in([](int d) -> std::vector<std::string> {
         if (d == 2) return {"rectangle", "circle", "wedge"};
-        return {"box", "sphere"};
+        return {"box", "sphere", "cylinder", "stl"};
       })
       .check([](const Shape& s, int d) -> std::string {
-        const bool planar_type =
-            s.type == ShapeType::rectangle || s.type == ShapeType::circle || s.type == ShapeType::wedge;
-        if (planar_type == (d == 2)) return "";
-        return quoted(std::string(name_of(s.type))) + " is a " + (d == 2 ? "3D" : "2D") +
-               " shape, but dimension = " + std::to_string(d) + "; must be one of " +
-               (d == 2 ? R"("rectangle", "circle", "wedge")" : R"("box", "sphere")");
+        if (is_planar(s.type) != (d == 2))
+          return quoted(std::string(name_of(s.type))) + " is a " + (d == 2 ? "3D" : "2D") +
+                 " shape, but dimension = " + std::to_string(d) + "; must be one of " +
+                 (d == 2 ? R"("rectangle", "circle", "wedge")" : R"("box", "sphere", "cylinder", "stl")");
+        if (s.type == ShapeType::stl && !stl_available())
+          return "\"stl\" needs CGAL, and this build has none: apt-get install libcgal-dev, then configure and "
+                 "build again";
+        return "";
       })
-      .doc(R"(2D: `"rectangle"`, `"circle"`, `"wedge"`; 3D: `"box"`, `"sphere"`)");
+      .doc(
+          R"(2D: `"rectangle"`, `"circle"`, `"wedge"`; 3D: `"box"`, `"sphere"`, `"cylinder"`, `"stl"` (a closed triangle mesh from a file; needs a build with CGAL))");
   add(
       keys, "min", [](Shape & s) -> auto& { return s.min; })
       .unit("m")
@@ -213,7 +224,45 @@ std::vector<ListKey<Shape>> declare_shapes() {
       .unit("m")
       .bounds(positive())
       .required()
-      .only(ball, "circle, sphere", not_ball);
+      .only([](const Shape& s, int) { return is_ball(s.type) || s.type == ShapeType::cylinder; },
+            "circle, sphere, cylinder",
+            [](const Shape& s, int) {
+              return "only for type = \"circle\", \"sphere\" or \"cylinder\" (" + is("type", s.type) + ")";
+            });
+  add(
+      keys, "base", [](Shape & s) -> auto& { return s.base; })
+      .unit("m")
+      .required()
+      .only(cylinder, "cylinder", not_cylinder)
+      .doc("the centre of one end");
+  add(
+      keys, "axis", [](Shape & s) -> auto& { return s.axis; })
+      .unit("m")
+      .required()
+      .only(cylinder, "cylinder", not_cylinder)
+      .check([](const Shape& s, int) -> std::string {
+        return s.axis == Vec3{} ? "must not be the zero vector (its length is the cylinder's length)" : "";
+      })
+      .doc("from the centre of the base to the centre of the other end, any direction; its length is the length");
+  add(
+      keys, "file", [](Shape & s) -> auto& { return s.file; })
+      .required()
+      .only(stl, "stl", not_stl)
+      .doc(
+          "an STL file, ASCII or binary, relative to the case file's folder (the resolved case gives the absolute "
+          "path); its triangles must close a surface (watertight). A particle is inside when its lattice point "
+          "is inside the surface or on it");
+  add(
+      keys, "scale", [](Shape & s) -> auto& { return s.scale; })
+      .bounds(positive())
+      .only(stl, "stl", not_stl)
+      .doc("each vertex v becomes scale v + translate: STL has no units, and scale = 0.001 reads millimetres");
+  add(
+      keys, "translate", [](Shape & s) -> auto& { return s.translate; })
+      .unit("m")
+      .only(stl, "stl", not_stl)
+      .default_text("`[0.0, 0.0, 0.0]`")
+      .doc("added to every vertex after scaling");
   add(
       keys, "apex", [](Shape & s) -> auto& { return s.apex; })
       .unit("m")
@@ -445,14 +494,7 @@ std::vector<ListKey<BodySpec>> declare_bodies() {
       keys, "lattice_origin", [](B & b) -> auto& { return b.lattice_origin; })
       .unit("m")
       .only(own_lattice, "all but wedges", wedge_lattice)
-      .preset([](B& b, int d) {
-        if (!is_ball(b.shape.type)) {
-          b.lattice_origin = b.shape.min;
-          return;
-        }
-        b.lattice_origin = {};
-        for (int k = 0; k < d; ++k) b.lattice_origin[k] = b.shape.center[k] - b.shape.radius;
-      })
+      .preset([](B& b, int d) { b.lattice_origin = b.shape.bounding_box(d).first; })
       .default_text("the lower corner of the shape's bounding box")
       .doc("particles at origin + (i + offset) s inside the shape, s the body's spacing");
   add(
@@ -525,7 +567,8 @@ std::vector<ListKey<LoadSpec>> declare_loads() {
            keys, "region", [](L & l) -> auto& { return l.region; })
            .required()
            .check([](const L& l, int) -> std::string {
-             return l.region.type == ShapeType::wedge ? "a load's region is a rectangle, circle, box or sphere" : "";
+             const bool own = l.region.type == ShapeType::wedge || l.region.type == ShapeType::stl;
+             return own ? "a load's region is a rectangle, circle, box, sphere or cylinder" : "";
            }),
        of({LoadType::edge, LoadType::traction}))
       .doc(

@@ -18,17 +18,8 @@ std::array<double, 3> to_array(const Vec<3>& v) { return {v[0], v[1], v[2]}; }
 // Bounding box of a shape in the first D components.
 template <int D>
 void shape_bounds(const Shape& s, Vec<D>& lo, Vec<D>& hi) {
-  if (s.type == ShapeType::wedge) {
-    lo[0] = s.apex[0] - s.half_breadth, hi[0] = s.apex[0] + s.half_breadth;
-    lo[1] = s.apex[1];
-    hi[1] = s.apex[1] + s.half_breadth * s.slope() + s.vertical_thickness();
-    return;
-  }
-  for (int d = 0; d < D; ++d) {
-    const bool round = is_ball(s.type);
-    lo[d] = round ? s.center[d] - s.radius : s.min[d];
-    hi[d] = round ? s.center[d] + s.radius : s.max[d];
-  }
+  const auto [low, high] = s.bounding_box(D);
+  lo = to_vec<D>(low), hi = to_vec<D>(high);
 }
 
 // Lattice points origin + (i + offset) dx inside the shape.
@@ -108,6 +99,13 @@ Real cell_volume(const Shape& shape, Real s) {
 // touches its region: centres within dx/2 of it).
 Shape grown(Shape s, Real margin) {
   s.radius += margin;
+  if (s.type == ShapeType::cylinder) {  // both ends out by the margin
+    const Real length = std::sqrt(s.axis[0] * s.axis[0] + s.axis[1] * s.axis[1] + s.axis[2] * s.axis[2]);
+    for (int d = 0; d < 3; ++d) {
+      s.base[d] -= margin * s.axis[d] / length;
+      s.axis[d] += 2 * margin * s.axis[d] / length;
+    }
+  }
   for (int d = 0; d < 3; ++d) {
     s.min[d] -= margin;
     s.max[d] += margin;
@@ -366,6 +364,67 @@ void check_wall_thickness(const FluidSetup<D>& f, const std::vector<unsigned cha
   }
 }
 
+// A point to six digits, for messages (a mesh's corners carry the round-off of scale and translate).
+std::string point_text(const std::array<double, 3>& p, int dimension) {
+  std::string text = "(";
+  for (int d = 0; d < dimension; ++d) {
+    char number[32];
+    std::snprintf(number, sizeof number, "%g", p[d]);
+    text += (d ? ", " : "") + std::string(number);
+  }
+  return text + ")";
+}
+
+// Advice for a mesh `ratio` times the tank's size: STL has no units, and a file in millimetres or
+// centimetres needs scale = 0.001 or 0.01.
+std::string scale_advice(double ratio) {
+  if (ratio >= 300) return "is the file in millimetres? STL has no units: scale = 0.001 makes them metres";
+  if (ratio >= 30) return "is the file in centimetres? STL has no units: scale = 0.01 makes them metres";
+  return "check the file's units and the shape's scale";
+}
+
+// A body from a mesh must lie in the tank: the bounding box of the wall bodies' shapes, open against
+// gravity as the tank is, and unbounded on periodic axes. A mesh ten times the tank's size or more is
+// in other units (STL has none): the message says which scale would mend it. Checked before the
+// bodies are filled, as a mesh in millimetres would take hours to fill.
+template <int D>
+void check_meshes_in_tank(const CaseSpec& spec, const std::string& file, std::vector<std::string>& problems) {
+  std::array<double, 3> lo{}, hi{};
+  bool walls = false;
+  for (const BodySpec& b : spec.bodies) {
+    if (b.kind != ParticleKind::wall) continue;
+    const auto [low, high] = b.shape.bounding_box(D);
+    for (int d = 0; d < D; ++d) {
+      lo[d] = walls ? std::min(lo[d], low[d]) : low[d];
+      hi[d] = walls ? std::max(hi[d], high[d]) : high[d];
+    }
+    walls = true;
+  }
+  if (!walls) return;
+  const Periodicity<D> period = periodicity<D>(spec.periodic);
+  const Vec<D> g = to_vec<D>(spec.gravity);
+  Real tank = 0;
+  for (int d = 0; d < D; ++d) tank = std::max(tank, hi[d] - lo[d]);
+  for (std::size_t bi = 0; bi < spec.bodies.size(); ++bi) {
+    const BodySpec& b = spec.bodies[bi];
+    if (b.shape.type != ShapeType::stl || b.kind == ParticleKind::wall) continue;
+    const auto [low, high] = b.shape.bounding_box(D);
+    if (!outside_open_box(to_vec<D>(low), to_vec<D>(lo), to_vec<D>(hi), g, period) &&
+        !outside_open_box(to_vec<D>(high), to_vec<D>(lo), to_vec<D>(hi), g, period))
+      continue;
+    Real size = 0;
+    for (int d = 0; d < D; ++d) size = std::max(size, high[d] - low[d]);
+    std::string text = file + ": bodies[" + std::to_string(bi) + "].shape: the mesh of body '" + b.name + "' spans " +
+                       point_text(low, D) + " to " + point_text(high, D) +
+                       " m, partly outside the tank (the wall bodies' bounding box, " + point_text(lo, D) + " to " +
+                       point_text(hi, D) + " m, open against gravity)";
+    if (size >= 10 * tank)
+      text += "; it is " + std::to_string(std::lround(size / tank)) +
+              " times the tank's size: " + scale_advice(size / tank);
+    problems.push_back(text);
+  }
+}
+
 // Checks the fluid set-up and completes it: material, overlaps, containment, wall geometry, the
 // reference velocity of Eq. 49 and the fluid probes.
 template <int D>
@@ -587,6 +646,7 @@ Scene<D> build_scene(const CaseSpec& spec) {
       problems.push_back(file + ": bodies[" + std::to_string(bi) + "].dx: " + std::to_string(spec.bodies[bi].dx) +
                          " m is coarser than the case's dx = " + std::to_string(dx) +
                          " m; a structure may be finer than the water, not coarser");
+  check_meshes_in_tank<D>(spec, file, problems);
   if (!problems.empty()) throw CaseError(problems);
   for (const auto& m : spec.materials) s.materials.push_back(elastic_material(m, D));
   for (std::size_t bi = 0; bi < spec.bodies.size(); ++bi) {

@@ -360,8 +360,10 @@ shape = { type = "rectangle", min = [0, 0], max = [1, 0.1], radius = 1 }
 )");
   p = problems(nested);
   EXPECT_TRUE(reports(p, nested + ": materials[0].colour: unknown key"));
-  EXPECT_TRUE(
-      reports(p, nested + ": bodies[0].shape.radius: only for type = \"circle\" or \"sphere\" (type = \"rectangle\")"));
+  EXPECT_TRUE(reports(
+      p,
+      nested +
+          ": bodies[0].shape.radius: only for type = \"circle\", \"sphere\" or \"cylinder\" (type = \"rectangle\")"));
   EXPECT_EQ(p.size(), 2u);
 }
 
@@ -448,7 +450,7 @@ point = [0.5, 0.2]
   EXPECT_TRUE(reports(p, path + ": bodies[1].lattice_offset: not for a wedge, which is filled on its own lattice "
                                 "(docs/CASES.md, shapes)"));
   EXPECT_TRUE(reports(p, path + ": bodies[2].shape: a wedge is a structure's shape (kind = \"wall\")"));
-  EXPECT_TRUE(reports(p, path + ": loads[1].region: a load's region is a rectangle, circle, box or sphere"));
+  EXPECT_TRUE(reports(p, path + ": loads[1].region: a load's region is a rectangle, circle, box, sphere or cylinder"));
   EXPECT_TRUE(reports(p, path + ": probes[1].type: \"structure_pressure\" probes need stages.fluid = true"));
 }
 
