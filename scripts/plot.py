@@ -149,7 +149,7 @@ def probe_columns(run_dir, fields):
 # SI units of the output files' columns and fields (docs/CASES.md, README: outputs).
 PROBE_UNITS = {"ux": "m", "uy": "m", "uz": "m", "x": "m", "p": "Pa", "u": "m/s", "fx": "N/m", "fy": "N/m"}
 FIELD_UNITS = {"pressure": "Pa", "velocity": "m/s", "displacement": "m", "position": "m", "sigma_xx": "Pa",
-               "sigma_yy": "Pa", "sigma_xy": "Pa", "density": "kg/m^3", "shift": "m", "structure_velocity": "m/s",
+               "sigma_yy": "Pa", "sigma_xy": "Pa", "sigma_zz": "Pa", "sigma_xz": "Pa", "sigma_yz": "Pa", "density": "kg/m^3", "shift": "m", "structure_velocity": "m/s",
                "structure_acceleration": "m/s^2", "structure_interaction": "m/s^2", "acceleration": "m/s^2",
                "pressure_acceleration": "m/s^2", "boundary_force": "N/m^3"}
 

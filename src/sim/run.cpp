@@ -303,8 +303,14 @@ void write_structure_snapshot(SnapshotWriter& writer, double t, TlsphSolver<D>& 
   SnapshotField vel{"velocity", 3, std::vector<double>(3 * n, 0.0)};
   SnapshotField acc{"acceleration", 3, std::vector<double>(3 * n, 0.0)};
   SnapshotField ref{"reference_position", 3, std::vector<double>(3 * n, 0.0)};
-  SnapshotField sxx{"sigma_xx", 1, std::vector<double>(n)}, syy{"sigma_yy", 1, std::vector<double>(n)},
-      sxy{"sigma_xy", 1, std::vector<double>(n)};
+  // The Cauchy stress's independent components: xx, yy, xy, and in 3D zz, xz, yz as well.
+  constexpr std::array<std::pair<int, int>, 6> stress_entries{{{0, 0}, {1, 1}, {0, 1}, {2, 2}, {0, 2}, {1, 2}}};
+  constexpr int stress_components = D == 3 ? 6 : 3;
+  std::vector<SnapshotField> stress;
+  for (int c = 0; c < stress_components; ++c) {
+    const auto [i, j] = stress_entries[c];
+    stress.push_back({std::string("sigma_") + "xyz"[i] + "xyz"[j], 1, std::vector<double>(n)});
+  }
   SnapshotField id{"id", 1, std::vector<double>(n)}, body{"body", 1, std::vector<double>(n)},
       fixed{"clamped", 1, std::vector<double>(n)};
   for (Index k = 0; k < n; ++k) {
@@ -315,15 +321,17 @@ void write_structure_snapshot(SnapshotWriter& writer, double t, TlsphSolver<D>& 
     put_vector(acc, k, solver.acceleration()[a]);
     put_vector(ref, k, solver.reference()[a]);
     const Mat<D> sigma = solver.cauchy_stress(a);
-    sxx.data[k] = sigma(0, 0);
-    syy.data[k] = sigma(1, 1);
-    sxy.data[k] = sigma(0, 1);
+    for (int c = 0; c < stress_components; ++c)
+      stress[c].data[k] = sigma(stress_entries[c].first, stress_entries[c].second);
     id.data[k] = k;
     body.data[k] = scene.structure_body[a];
     fixed.data[k] = solver.fixed()[a];
   }
   attributes.insert(attributes.end(), {{"boundary_work", boundary_work}, {"clamp_work", solver.clamp_work()}});
-  writer.write(t, pos, {disp, vel, acc, ref, sxx, syy, sxy, id, body, fixed}, attributes);
+  std::vector<SnapshotField> fields{std::move(disp), std::move(vel), std::move(acc), std::move(ref)};
+  for (SnapshotField& f : stress) fields.push_back(std::move(f));
+  for (SnapshotField* f : {&id, &body, &fixed}) fields.push_back(std::move(*f));
+  writer.write(t, pos, fields, attributes);
 }
 
 // Continues a structure-only run from its snapshot: positions, velocities and the last acceleration by
