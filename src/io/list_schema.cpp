@@ -16,6 +16,14 @@ KeyBounds non_negative() { return {0}; }
 
 std::string quoted(const std::string& name) { return toml_string(name); }
 
+// The shape types of a dimension, in the enum's order: the planar ones in 2D, the others in 3D.
+std::vector<std::string> shape_types(int dimension) {
+  std::vector<std::string> names;
+  for (const auto& entry : enum_names(ShapeType{}))
+    if (is_planar(entry.value) == (dimension == 2)) names.emplace_back(entry.name);
+  return names;
+}
+
 // `kind = "fluid"`: an element's own value of a choice, for the messages.
 template <class E>
 std::string is(const std::string& key, E value) {
@@ -186,15 +194,14 @@ std::vector<ListKey<Shape>> declare_shapes() {
       keys, "type", [](Shape & s) -> auto& { return s.type; })
       .required()
       .discriminator()
-      .choices_in([](int d) -> std::vector<std::string> {
-        if (d == 2) return {"rectangle", "circle", "wedge"};
-        return {"box", "sphere", "cylinder", "stl"};
-      })
+      .choices_in(shape_types)
       .check([](const Shape& s, int d) -> std::string {
-        if (is_planar(s.type) != (d == 2))
+        if (is_planar(s.type) != (d == 2)) {
+          std::string allowed;
+          for (const std::string& name : shape_types(d)) allowed += (allowed.empty() ? "" : ", ") + quoted(name);
           return quoted(std::string(name_of(s.type))) + " is a " + (d == 2 ? "3D" : "2D") +
-                 " shape, but dimension = " + std::to_string(d) + "; must be one of " +
-                 (d == 2 ? R"("rectangle", "circle", "wedge")" : R"("box", "sphere", "cylinder", "stl")");
+                 " shape, but dimension = " + std::to_string(d) + "; must be one of " + allowed;
+        }
         if (s.type == ShapeType::stl && !stl_available())
           return "\"stl\" needs CGAL, and this build has none: apt-get install libcgal-dev, then configure and "
                  "build again";
