@@ -1,4 +1,4 @@
-// Captures the pressure Poisson system of a real case (docs/SOLVERS.md, "The dam-break PPE"): loads the
+// Captures the pressure Poisson system of a real case (docs/SOLVERS.md, "Captured PPEs"): loads the
 // case with the --set overrides, runs STEPS - 1 ISPH steps, assembles the next step's PPE and writes
 // it to FILE with its right-hand side, the solve's start (the last pressure) and each row's particle
 // kind and surface class, so that solvers can be compared on the matrix the time loop solves
@@ -6,16 +6,14 @@
 //
 //   isph_ppe_capture CASE --out FILE [--steps N] [--set key=value]...
 //
-// File layout (little-endian): "ISPHPPE1", int64 rows, int64 nonzeros, int64 dimension, int32 row_offset[rows + 1],
-// int32 col[nonzeros], float64 val[nonzeros], float64 rhs[rows], float64 start[rows],
-// uint8 kind[rows] (FluidKind), uint8 class[rows] (SurfaceClass).
+// The file's layout: bench/captured_ppe.hpp.
 #include <cstdint>
 #include <cstdio>
-#include <fstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "bench/captured_ppe.hpp"
 #include "io/case_loader.hpp"
 #include "sim/isph.hpp"
 #include "sim/phase_timer.hpp"
@@ -24,11 +22,6 @@
 using namespace isph;
 
 namespace {
-
-template <class T>
-void put(std::ofstream& out, const T* data, std::size_t count) {
-  out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(sizeof(T) * count));
-}
 
 template <int D>
 void capture(const CaseSpec& spec, int steps, const std::string& path) {
@@ -44,28 +37,15 @@ void capture(const CaseSpec& spec, int steps, const std::string& path) {
   solver.begin_step(solver.time_step(), timer);
   const CsrMatrix& A = solver.ppe_matrix();
   const auto& ps = solver.particles();
-  const std::int64_t rows = A.rows, nonzeros = A.row_offset[A.rows], dimension = D;
+  const Index rows = A.rows;
   std::vector<std::uint8_t> kind(rows), cls(rows);
   for (Index a = 0; a < rows; ++a) {
     kind[a] = static_cast<std::uint8_t>(ps.kind[a]);
     cls[a] = static_cast<std::uint8_t>(solver.surface_class()[a]);
   }
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw std::runtime_error("cannot write " + path);
-  out.write("ISPHPPE1", 8);
-  put(out, &rows, 1);
-  put(out, &nonzeros, 1);
-  put(out, &dimension, 1);
-  put(out, A.row_offset.data(), rows + 1);
-  put(out, A.col.data(), nonzeros);
-  put(out, A.val.data(), nonzeros);
-  put(out, solver.ppe_rhs().data(), rows);
-  put(out, ps.pressure.data(), rows);
-  put(out, kind.data(), rows);
-  put(out, cls.data(), rows);
-  if (!out) throw std::runtime_error("writing " + path + " failed");
+  bench::write_captured_ppe(path, D, A, solver.ppe_rhs(), {ps.pressure.data(), ps.pressure.size()}, kind, cls);
   std::fprintf(stderr, "%s: %lld rows, %lld nonzeros (%d-D, step %d)\n", path.c_str(), static_cast<long long>(rows),
-               static_cast<long long>(nonzeros), D, steps);
+               static_cast<long long>(A.row_offset[rows]), D, steps);
 }
 
 }  // namespace

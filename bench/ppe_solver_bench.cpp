@@ -24,7 +24,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -35,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/captured_ppe.hpp"
 #include "core/device_memory.hpp"
 #include "poisson/cuda_solver.hpp"
 #include "poisson/krylov.hpp"
@@ -92,41 +92,6 @@ double host_copy_bandwidth() {
   return 2.0 * bytes * copies / std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// A system written by isph_ppe_capture (its header comment gives the layout).
-struct CapturedSystem {
-  int dimension = 2;
-  CsrMatrix A;
-  std::vector<double> b, start;
-};
-
-CapturedSystem read_captured(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  char magic[8] = {};
-  std::int64_t rows = 0, nonzeros = 0, dimension = 0;
-  in.read(magic, 8);
-  in.read(reinterpret_cast<char*>(&rows), 8);
-  in.read(reinterpret_cast<char*>(&nonzeros), 8);
-  in.read(reinterpret_cast<char*>(&dimension), 8);
-  if (!in || std::string(magic, 8) != "ISPHPPE1" || rows <= 0 || nonzeros < rows || dimension < 2 || dimension > 3)
-    throw std::runtime_error(path + " is not a system written by isph_ppe_capture");
-  CapturedSystem s;
-  s.dimension = static_cast<int>(dimension);
-  s.A.rows = static_cast<int>(rows);
-  s.A.row_offset.resize(rows + 1);
-  s.A.col.resize(nonzeros);
-  s.A.val.resize(nonzeros);
-  s.b.resize(rows);
-  s.start.resize(rows);
-  const auto get = [&in](auto& v) { in.read(reinterpret_cast<char*>(v.data()), sizeof(v[0]) * v.size()); };
-  get(s.A.row_offset);
-  get(s.A.col);
-  get(s.A.val);
-  get(s.b);
-  get(s.start);
-  if (!in) throw std::runtime_error(path + " ends early");
-  return s;
-}
-
 void bench_captured(const std::vector<std::string>& paths, const std::vector<SolverSettings>& combos) {
   std::printf(
       "| system | D | unknowns | nonzeros | solver | set-up [s] | solve [s] | total [s] | iterations | rel. residual | "
@@ -134,7 +99,7 @@ void bench_captured(const std::vector<std::string>& paths, const std::vector<Sol
   std::printf("|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---|\n");
   std::fflush(stdout);
   for (const std::string& path : paths) {
-    const CapturedSystem sys = read_captured(path);
+    const bench::CapturedPpe sys = bench::read_captured_ppe(path);
     const std::string file = path.substr(path.find_last_of('/') + 1);
     for (SolverSettings settings : combos) {
       settings.dimension = sys.dimension;
