@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Whole-case benchmark driver: the dam break and the elastic gate scaled from 1e4 to millions of
-fluid particles (2D), and the 3D dam break of bench/dam_break_3d.toml, a few steps from rest each, on
+fluid particles (2D), and the 3D dam break of cases/dam_break_obstacle_3d.toml, a few steps from rest each, on
 the CPU or the GPU.
 
     /usr/bin/python3 bench/case_sweep.py [--cases dam_break,elastic_gate,dam_break_3d] [--sizes 1e4,1e5,1e6,4e6]
@@ -31,7 +31,7 @@ G = 9.81
 # The scaled geometry of each case: the fluid's area (2D) or volume (3D) and height (for dx and the
 # reference velocity of Eq. 49) and its walls as rectangles or boxes of the wall thickness t = 3 dx (the
 # case files use their own dx).
-TANK_3D = (3.22, 1.0, 1.0)  # bench/dam_break_3d.toml
+TANK_3D = (3.22, 1.0, 1.0)  # cases/dam_break_obstacle_3d.toml
 CASES = {
     "dam_break": {
         "file": "cases/dam_break.toml",
@@ -55,7 +55,7 @@ CASES = {
         },
     },
     "dam_break_3d": {
-        "file": "bench/dam_break_3d.toml",
+        "file": "cases/dam_break_obstacle_3d.toml",
         "dimension": 3,
         "fluid_measure": 1.228 * 1.0 * 0.55,
         "fluid_height": 0.55,

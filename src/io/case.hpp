@@ -74,13 +74,14 @@ constexpr EnumName<LoadType> kLoadTypeNames[] = {
     {LoadType::edge, "edge"}, {LoadType::traction, "traction"}, {LoadType::point, "point"}, {LoadType::body, "body"}};
 constexpr std::span<const EnumName<LoadType>> enum_names(LoadType) { return kLoadTypeNames; }
 
-enum class ProbeType { displacement, structure_pressure, pressure, velocity, front, max_speed };
+enum class ProbeType { displacement, structure_pressure, pressure, velocity, front, max_speed, water_level };
 constexpr EnumName<ProbeType> kProbeTypeNames[] = {{ProbeType::displacement, "displacement"},
                                                    {ProbeType::structure_pressure, "structure_pressure"},
                                                    {ProbeType::pressure, "pressure"},
                                                    {ProbeType::velocity, "velocity"},
                                                    {ProbeType::front, "front"},
-                                                   {ProbeType::max_speed, "max_speed"}};
+                                                   {ProbeType::max_speed, "max_speed"},
+                                                   {ProbeType::water_level, "water_level"}};
 constexpr std::span<const EnumName<ProbeType>> enum_names(ProbeType) { return kProbeTypeNames; }
 
 // A geometric primitive. In 2D: "rectangle" (min, max), "circle" (center, radius) or "wedge". In 3D:
@@ -227,6 +228,8 @@ struct LoadSpec {
 //  "front":        the largest x of the fluid particles below the height point[1] (field x): the surge
 //                  front of a dam break when point[1] is a little above the floor.
 //  "max_speed":    the speed of the fastest fluid particle (field u); no point.
+//  "water_level":  the height of the water surface on the vertical line through `point`, at or above
+//                  point's height (field h): a wave gauge.
 struct ProbeSpec {
   std::string name;
   ProbeType type = ProbeType::displacement;

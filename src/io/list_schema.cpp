@@ -633,7 +633,7 @@ std::vector<ListKey<ProbeSpec>> declare_probes() {
   add(
       keys, "type", [](P & p) -> auto& { return p.type; })
       .doc(
-          R"(`"displacement"`, `"structure_pressure"`, `"pressure"`, `"velocity"`, `"front"`, `"max_speed"`: see below)");
+          R"(`"displacement"`, `"structure_pressure"`, `"pressure"`, `"velocity"`, `"front"`, `"max_speed"`, `"water_level"`: see below)");
   add(
       keys, "point", [](P & p) -> auto& { return p.point; })
       .unit("m")

@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "core/ordered_sum.hpp"
 #include "sim/fluid_functors.hpp"
@@ -339,6 +340,44 @@ Real ParticleSet<D>::front(Real height) const {
   for (Index a = 0; a < size(); ++a)
     if (kind[a] == FluidKind::fluid && position[a][D - 1] < height) best = std::max(best, position[a][0]);
   return best;
+}
+
+template <int D>
+Real ParticleSet<D>::water_level(const Vec<D>& point) const {
+  const Real base = point[D - 1], reach = fluid_kernel().support();
+  std::vector<Index> column;  // fluid particles whose kernel reaches the line
+  Real top = base;
+  for (Index b = 0; b < size(); ++b) {
+    if (kind[b] != FluidKind::fluid) continue;
+    Vec<D> across = period_.delta(point, position[b]);
+    across[D - 1] = 0;
+    if (norm2(across) >= reach * reach) continue;
+    column.push_back(b);
+    top = std::max(top, position[b][D - 1] + reach);
+  }
+  // sum_b V_b W(|x - x_b|) - 1/2 at height z on the line: negative above the water, where it is -1/2
+  const auto excess = [&](Real z) {
+    Vec<D> x = point;
+    x[D - 1] = z;
+    Real filled = 0;
+    for (const Index b : column)
+      filled +=
+          volume[b] * kernels_.pair(fluid_level_, level[b]).value(std::sqrt(norm2(period_.delta(x, position[b]))));
+    return filled - 0.5;
+  };
+  // Down from above the highest water in quarter smoothing lengths, then bisection in the first
+  // interval whose lower end is filled (excess(hi) < 0 holds throughout).
+  const Real step = fluid_kernel().h / 4;
+  for (Real hi = top; hi > base; hi -= step) {
+    Real lo = std::max(hi - step, base);
+    if (excess(lo) < 0) continue;
+    for (int i = 0; i < 40 && hi - lo > 1e-6 * step; ++i) {
+      const Real mid = (lo + hi) / 2;
+      (excess(mid) >= 0 ? lo : hi) = mid;
+    }
+    return lo;
+  }
+  return base;
 }
 
 template <int D>

@@ -221,6 +221,10 @@ class ParticleSet {
   Real structure_pressure(Index structure) const;
   // Largest x of the fluid particles below `height` on the vertical axis (D - 1); -inf if none.
   Real front(Real height) const;
+  // The water surface on the vertical line through `point`: the highest height, not below point's, at
+  // which the fluid fills half of the kernel, sum_b V_b W(|z - x_b|) = 1/2 (docs/CASES.md, probes).
+  // point's own height where no water reaches the line.
+  Real water_level(const Vec<D>& point) const;
   // First particle with a non-finite position, velocity or pressure, or -1.
   Index first_non_finite() const;
   // First fluid particle outside the box [lo, hi], or -1.

@@ -558,6 +558,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
     if (p.type == ProbeType::pressure) columns.push_back(p.name + ".p");
     if (p.type == ProbeType::front) columns.push_back(p.name + ".x");
     if (p.type == ProbeType::max_speed) columns.push_back(p.name + ".u");
+    if (p.type == ProbeType::water_level) columns.push_back(p.name + ".h");
     if (p.type == ProbeType::velocity)
       for (int d = 0; d < D; ++d) columns.push_back(p.name + "." + kComponents[d]);
   }
@@ -604,6 +605,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
         if (p.type == ProbeType::pressure) row.push_back(particles.interpolate_pressure(p.point));
         if (p.type == ProbeType::front) row.push_back(particles.front(p.point[D - 1]));
         if (p.type == ProbeType::max_speed) row.push_back(particles.max_speed());
+        if (p.type == ProbeType::water_level) row.push_back(particles.water_level(p.point));
         if (p.type == ProbeType::velocity) {
           const Vec<D> u = particles.interpolate_velocity(p.point);
           for (int d = 0; d < D; ++d) row.push_back(u[d]);

@@ -22,11 +22,12 @@ struct StructurePressureProbe {
   Index particle;  // nearest structure particle in the reference configuration
 };
 
-// A fixed-point probe of the fluid: pressure, velocity or surge front (io/case.hpp ProbeSpec).
+// A fixed-point probe of the fluid: pressure, velocity, surge front, fastest speed or water level
+// (io/case.hpp ProbeSpec).
 template <int D>
 struct FluidProbe {
   std::string name;
-  ProbeType type = ProbeType::pressure;  // pressure, velocity, front or max_speed
+  ProbeType type = ProbeType::pressure;
   Vec<D> point;
 };
 

@@ -169,6 +169,32 @@ TEST(FreeSurface, ClassifiesAKnownBlockIn3D) {
   EXPECT_EQ(counted[static_cast<int>(SurfaceClass::splash)], 1);
 }
 
+// The wave gauge (ParticleSet::water_level, issue 34). Over still water the half-filled kernel lies on
+// the water's top face, where a half-space fills half of it; a drop alone above the water fills 0.32 of
+// it (cubic spline, h = 1.2 dx, 2D) and is passed over; a line that no water reaches reads its base.
+TEST(WaterLevel, FindsTheSurfaceOfStillWaterAndPassesOverADrop) {
+  const double depth = 0.8;
+  const std::string drop =
+      "[[bodies]]\nname = \"drop\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
+      "shape = { type = \"rectangle\", min = [0.45, 1.1], max = [0.5, 1.15] }\n";
+  Scene<2> scene = build_scene<2>(load_text(tank_case(1.0, depth, 16, 0.6) + drop));
+  const IsphSolver<2> solver(std::move(scene.fluid));
+  const ParticleSet<2>& water = solver.particles();
+  EXPECT_NEAR(water.water_level({0.475, 0.0}), depth, 1e-3 * depth);  // under the drop; measured 0.79994
+  EXPECT_NEAR(water.water_level({0.3, 0.0}), depth, 1e-3 * depth);    // measured 0.80015
+  EXPECT_EQ(water.water_level({0.475, 1.0}), 1.0);                    // the drop alone
+  EXPECT_EQ(water.water_level({1.2, 0.0}), 0.0);                      // beside the tank
+}
+
+// The same gauge in 3D, on SPHERIC Test 2 at rest (cases/dam_break_obstacle_3d.toml): at H4 the column
+// as the lattice fills it, 14 particles of 0.04 m (0.56 m for the experiment's 0.55 m); the dry floor at H1.
+TEST(WaterLevel, ReadsTheColumnOfTheThreeDimensionalDamBreak) {
+  Scene<3> scene = build_scene<3>(load_case(std::string(ISPH_SOURCE_DIR) + "/cases/dam_break_obstacle_3d.toml"));
+  const IsphSolver<3> solver(std::move(scene.fluid));
+  EXPECT_NEAR(solver.particles().water_level({2.638, 0.5, 0.0}), 14 * 0.04, 1e-3 * 0.56);  // measured 0.55998
+  EXPECT_EQ(solver.particles().water_level({0.496, 0.5, 0.0}), 0.0);
+}
+
 // The wall beneath a structure's free part gets the normal and depth of the face it shows once the
 // structure lifts off (the elastic gate's foot): up, dx/2 deep, as the floor beside it. Beneath the
 // clamped part, which never moves, the floor is covered for good and its particles have no face.
@@ -621,11 +647,11 @@ TEST(PpeSolve, BoomerAmgSolvesTheDamBreakPpeOnlyWithRowsOnOneScale) {
   EXPECT_GT(two_scales.relative_residual, 1e-4);  // measured 4.4e-3
 }
 
-// The 3D dam break of SPHERIC Test 2 at dx = 0.04 m (bench/dam_break_3d.toml, 35,065 rows): 7
+// The 3D dam break of SPHERIC Test 2 at dx = 0.04 m (cases/dam_break_obstacle_3d.toml, 35,065 rows): 7
 // iterations with the 3D coarsening (strength 0.5, one aggressive level), 9 with the 2D one.
 TEST(PpeSolve, BoomerAmgSolvesTheThreeDimensionalDamBreakPpe) {
   if (!hypre_available()) GTEST_SKIP() << "hypre not built";
-  const SolveReport r = dam_break_ppe_solve<3>("bench/dam_break_3d.toml");
+  const SolveReport r = dam_break_ppe_solve<3>("cases/dam_break_obstacle_3d.toml");
   EXPECT_TRUE(r.converged) << r.message;
   EXPECT_LE(r.iterations, 8);  // measured 7
 }

@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# The 3D validation runs that do not fit the test budget (issue 34; docs/VALIDATION.md sections 28-30):
+#   1. the still 3D tank and the 3D cantilever as shipped, and the cantilever at 10 x 10 particles;
+#   2. SPHERIC Test 2 (cases/dam_break_obstacle_3d.toml) for its 6 s with ISPH at dx = 0.05 and 0.04 m and
+#      with the weakly compressible comparator at 0.04 m, and ISPH at 0.03 m over the first impact (1.2 s);
+#      the walls three particles thick at each dx;
+# then the table of scripts/dam_break_3d_report.py and its figures. About 2.5 hours on 2 cores.
+#   bash scripts/validate_3d.sh          # OUT=runs/validate_3d, THREADS=2
+set -euo pipefail
+cd "$(dirname "$0")/.."
+ISPH=${ISPH:-build/isph}
+OUT=${OUT:-runs/validate_3d}
+THREADS=${THREADS:-2}
+PY=/usr/bin/python3
+mkdir -p "$OUT"
+
+run() {  # run NAME CASE [--set ...]
+  local name=$1 case=$2; shift 2
+  [ -f "$OUT/$name/summary.json" ] || "$ISPH" run "$case" --quiet --threads "$THREADS" --out "$OUT/$name" "$@" ||
+    echo "$name stopped"
+}
+walls() {  # walls DX: --set options for SPHERIC Test 2's walls three particles thick at DX
+  awk -v dx="$1" 'BEGIN {
+    t = 3 * dx; X = 3.22; Y = 1; Z = 1
+    printf "--set dx=%g ", dx
+    printf "--set bodies.floor.shape={type=\"box\",min=[%g,%g,%g],max=[%g,%g,0]} ", -t, -t, -t, X + t, Y + t
+    printf "--set bodies.wall_x0.shape={type=\"box\",min=[%g,%g,0],max=[0,%g,%g]} ", -t, -t, Y + t, Z
+    printf "--set bodies.wall_x1.shape={type=\"box\",min=[%g,%g,0],max=[%g,%g,%g]} ", X, -t, X + t, Y + t, Z
+    printf "--set bodies.wall_y0.shape={type=\"box\",min=[0,%g,0],max=[%g,0,%g]} ", -t, X, Z
+    printf "--set bodies.wall_y1.shape={type=\"box\",min=[0,%g,0],max=[%g,%g,%g]}\n", Y, X, Y + t, Z }'
+}
+CASE=cases/dam_break_obstacle_3d.toml
+NO_SNAPSHOTS=(--set output.snapshots=false)
+
+run tank_3d cases/hydrostatic_tank_3d.toml "${NO_SNAPSHOTS[@]}"
+run cantilever_3d cases/cantilever_3d.toml "${NO_SNAPSHOTS[@]}"
+run cantilever_3d_dx1mm cases/cantilever_3d.toml --set dx=0.001 "${NO_SNAPSHOTS[@]}"
+for dx in 0.05 0.04; do
+  read -ra WALLS <<< "$(walls $dx)"
+  run "isph_$dx" "$CASE" "${WALLS[@]}" "${NO_SNAPSHOTS[@]}"
+done
+read -ra WALLS <<< "$(walls 0.04)"
+run wcsph_0.04 "$CASE" "${WALLS[@]}" --set 'fluid.model="wcsph"' "${NO_SNAPSHOTS[@]}"
+read -ra WALLS <<< "$(walls 0.03)"
+run isph_0.03_to_1.2s "$CASE" "${WALLS[@]}" --set end_time=1.2 "${NO_SNAPSHOTS[@]}"
+
+echo "== SPHERIC Test 2"
+$PY scripts/dam_break_3d_report.py "ISPH 0.05 m=$OUT/isph_0.05" "ISPH 0.04 m=$OUT/isph_0.04" \
+  "WCSPH 0.04 m=$OUT/wcsph_0.04" "ISPH 0.03 m (to 1.2 s)=$OUT/isph_0.03_to_1.2s" \
+  --figure docs/figures/dam_break_obstacle_3d.png --pareto docs/figures/dam_break_obstacle_3d_pareto.png
