@@ -148,7 +148,14 @@ struct VelocityPredictor {
 // dx/2 to the surface of its nearest wall neighbour loses the velocity component (relative to the
 // wall) that carries it further in. The PPE keeps interior fluid out of walls through the wall
 // pressure, but free-surface particles (p = 0, alpha = 0: a thin front running along a floor) carry no
-// incompressibility constraint, and without this they can drift into the wall.
+// incompressibility constraint, and without this they can drift into the wall. The same holds for
+// every other fixed wall's surface the particle lies within dx/2 of, on either side: in an edge or a
+// corner of walls it is that near two or three faces, and with the nearest particle's face alone it
+// slid through another (docs/VALIDATION.md section 30). Faces of the first layer only (depth dx/2,
+// convex corners' bisectors included): the particles beneath a concave edge face it diagonally, across
+// the water's corner, and their face, added to the two it joins, threw the water out of the corner. A
+// structure's faces are planes only near each particle (normals turned by F, depths fixed), so there
+// the nearest particle's face alone counts.
 template <int D>
 struct Project {
   FluidView<D> v;
@@ -160,12 +167,19 @@ struct Project {
   ISPH_HD void operator()(Index a) const {
     if (!v.is_fluid(a)) return;
     Vec<D> u = u_star[a] - (dt / density) * grad_p[a];
+    const auto faced = [&](Index b) { return !v.is_fluid(b) && norm2(v.wall_normal[b]) > 0; };
     Real r2;
-    const Index wall = v.nearest_neighbour(a, [&](Index b) { return !v.is_fluid(b) && norm2(v.wall_normal[b]) > 0; }, r2);
-    if (wall >= 0) {
-      const Vec<D> n = v.wall_normal[wall];
-      const Real approach = dot(u - v.wall_velocity[wall], n);
-      if (v.beyond_surface(a, wall) < 0.5 * v.dx && approach < 0) u = u - approach * n;
+    const Index nearest = v.nearest_neighbour(a, faced, r2);
+    for (Index k = v.op.nbr_offset[a]; k < v.op.nbr_offset[a + 1]; ++k) {
+      const Index b = v.op.nbr[k];
+      if (!faced(b)) continue;
+      const Real beyond = v.beyond_surface(a, b);
+      const bool other_wall_face =
+          v.kind[b] == FluidKind::wall && v.wall_depth[b] < 0.75 * v.dx && beyond > -0.5 * v.dx;
+      if (!(beyond < 0.5 * v.dx && (b == nearest || other_wall_face))) continue;
+      const Vec<D> n = v.wall_normal[b];
+      const Real approach = dot(u - v.wall_velocity[b], n);
+      if (approach < 0) u = u - approach * n;
     }
     u_new[a] = u;
   }

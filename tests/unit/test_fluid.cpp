@@ -42,6 +42,28 @@ std::string tank_case(double width, double depth, int rows, double freeboard, co
   return s.str();
 }
 
+// A 3D box tank: water (width x width x depth) on a floor inside four walls that rise to `top`, all
+// three particles thick.
+std::string box_tank_case(double dx, double width, double depth, double top) {
+  const double t = 3 * dx;
+  std::ostringstream s;
+  const auto box = [&s](const std::string& name, const std::string& kind, double x0, double y0, double z0, double x1,
+                        double y1, double z1) {
+    s << "[[bodies]]\nname = \"" << name << "\"\nkind = \"" << kind << "\"\n"
+      << (kind == "fluid" ? "material = \"water\"\n" : "") << "shape = { type = \"box\", min = [" << x0 << ", " << y0
+      << ", " << z0 << "], max = [" << x1 << ", " << y1 << ", " << z1 << "] }\n";
+  };
+  s << "dimension = 3\ndx = " << dx << "\nend_time = 1\ngravity = [0, 0, -9.81]\n[stages]\nstructure = false\n"
+    << "fluid = true\n[[materials]]\nname = \"water\"\nmodel = \"newtonian\"\ndensity = 1000\nviscosity = 1e-6\n";
+  box("water", "fluid", 0, 0, 0, width, width, depth);
+  box("floor", "wall", -t, -t, -t, width + t, width + t, 0);
+  box("x0", "wall", -t, -t, 0, 0, width + t, top);
+  box("x1", "wall", width, -t, 0, width + t, width + t, top);
+  box("y0", "wall", 0, -t, 0, width, 0, top);
+  box("y1", "wall", 0, width, 0, width, width + t, top);
+  return s.str();
+}
+
 CaseSpec load_text(const std::string& text) {
   const auto path = std::filesystem::temp_directory_path() /
                     ("isph_fluid_" + std::to_string(::getpid()) + "_" +
@@ -128,23 +150,10 @@ TEST(FreeSurface, ClassifiesAKnownBlock) {
 // The same in 3D (issue 34): a block of 6 x 6 x 8 particles in a box tank and one drop above it. The top
 // layer is surface, the one beneath it near-surface, the rest interior, the drop splash.
 TEST(FreeSurface, ClassifiesAKnownBlockIn3D) {
-  const double dx = 0.1, width = 0.6, depth = 0.8, t = 3 * dx, top = depth + 0.5;
+  const double dx = 0.1, width = 0.6, depth = 0.8;
   std::ostringstream s;
-  const auto box = [&s](const std::string& name, const std::string& kind, double x0, double y0, double z0, double x1,
-                        double y1, double z1) {
-    s << "[[bodies]]\nname = \"" << name << "\"\nkind = \"" << kind << "\"\n"
-      << (kind == "fluid" ? "material = \"water\"\n" : "") << "shape = { type = \"box\", min = [" << x0 << ", " << y0
-      << ", " << z0 << "], max = [" << x1 << ", " << y1 << ", " << z1 << "] }\n";
-  };
-  s << "dimension = 3\ndx = " << dx << "\nend_time = 1\ngravity = [0, 0, -9.81]\n[stages]\nstructure = false\n"
-    << "fluid = true\n[[materials]]\nname = \"water\"\nmodel = \"newtonian\"\ndensity = 1000\nviscosity = 1e-6\n";
-  box("water", "fluid", 0, 0, 0, width, width, depth);
-  box("floor", "wall", -t, -t, -t, width + t, width + t, 0);
-  box("x0", "wall", -t, -t, 0, 0, width + t, top);
-  box("x1", "wall", width, -t, 0, width + t, width + t, top);
-  box("y0", "wall", 0, -t, 0, width, 0, top);
-  box("y1", "wall", 0, width, 0, width, width + t, top);
-  s << "[[bodies]]\nname = \"drop\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
+  s << box_tank_case(dx, width, depth, depth + 0.5)
+    << "[[bodies]]\nname = \"drop\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
     << "shape = { type = \"sphere\", center = [0.3, 0.3, 1.2], radius = 0.04 }\nlattice_origin = [0.25, 0.25, 1.15]\n";
   Scene<3> scene = build_scene<3>(load_text(s.str()));
   IsphSolver<3> solver(std::move(scene.fluid));
@@ -321,6 +330,34 @@ TEST(Projection, OneStepGivesHydrostaticPressure) {
   }
   EXPECT_LT(hi - lo, 1e-4);  // below the surface rows, measured 2.5e-5
   EXPECT_LT(fastest, 2e-5 * std::sqrt(9.81 * depth));
+}
+
+// The impermeability condition of Project in a corner of a 3D tank (docs/VALIDATION.md section 30): the
+// fluid particle nearest the corner of the floor and two walls, moved to 0.3 dx from each of the three
+// faces and heading into the corner, keeps no velocity into any face. With the nearest wall particle's
+// face alone it kept two of the three components and slid through the walls of SPHERIC Test 2.
+TEST(Projection, ImpermeableInACornerOfThreeWalls) {
+  const double dx = 0.1;
+  Scene<3> scene = build_scene<3>(load_text(box_tank_case(dx, 0.6, 0.4, 0.7)));
+  IsphSolver<3> solver(std::move(scene.fluid));
+  PhaseTimer timer;
+  solver.step(1e-6, timer);  // the neighbour lists
+  ParticleSet<3>& particles = solver.particles();
+  Index corner = -1;
+  for (Index a = 0; a < particles.size(); ++a)
+    if (particles.kind[a] == FluidKind::fluid &&
+        (corner < 0 || norm2(particles.position[a]) < norm2(particles.position[corner])))
+      corner = a;
+  particles.position[corner] = Vec<3>{0.3 * dx, 0.3 * dx, 0.3 * dx};
+  const std::vector<Vec<3>> grad_p(particles.size(), Vec<3>::zero());
+  std::vector<Vec<3>> u_star(particles.size(), Vec<3>::zero()), u_new(particles.size());
+  u_star[corner] = Vec<3>{-1.0, -0.5, -2.0};
+  Project<3>{particles.view(), grad_p.data(), u_star.data(), 1000.0, 1e-3, u_new.data()}(corner);
+  for (int d = 0; d < 3; ++d) EXPECT_NEAR(u_new[corner][d], 0.0, 1e-12) << "component " << d;
+  // Away from the walls (one dx from each face) the particle keeps its velocity.
+  particles.position[corner] = Vec<3>{dx, dx, dx};
+  Project<3>{particles.view(), grad_p.data(), u_star.data(), 1000.0, 1e-3, u_new.data()}(corner);
+  for (int d = 0; d < 3; ++d) EXPECT_EQ(u_new[corner][d], u_star[corner][d]) << "component " << d;
 }
 
 // The CSR rows of PpeRowFill equal a dense matrix assembled here by brute force over all particle
