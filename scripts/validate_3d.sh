@@ -2,7 +2,7 @@
 # The 3D validation runs that do not fit the test budget (issue 34; docs/VALIDATION.md sections 28-30):
 #   1. the still 3D tank and the 3D cantilever as shipped, and the cantilever at 10 x 10 particles;
 #   2. SPHERIC Test 2 (cases/dam_break_obstacle_3d.toml) for its 6 s with ISPH at dx = 0.05 and 0.04 m and
-#      with the weakly compressible comparator at 0.04 m, and ISPH at 0.03 m over the first impact (1.2 s);
+#      with the weakly compressible comparator at 0.04 m, and ISPH at 0.03 m over the first impact (0.6 s);
 #      the walls three particles thick at each dx;
 # then the table of scripts/dam_break_3d_report.py and its figures. About 2.5 hours on 2 cores.
 #   bash scripts/validate_3d.sh          # OUT=runs/validate_3d, THREADS=2
@@ -42,9 +42,9 @@ done
 read -ra WALLS <<< "$(walls 0.04)"
 run wcsph_0.04 "$CASE" "${WALLS[@]}" --set 'fluid.model="wcsph"' "${NO_SNAPSHOTS[@]}"
 read -ra WALLS <<< "$(walls 0.03)"
-run isph_0.03_to_1.2s "$CASE" "${WALLS[@]}" --set end_time=1.2 "${NO_SNAPSHOTS[@]}"
+run isph_0.03_to_0.6s "$CASE" "${WALLS[@]}" --set end_time=0.6 "${NO_SNAPSHOTS[@]}"
 
 echo "== SPHERIC Test 2"
 $PY scripts/dam_break_3d_report.py "ISPH 0.05 m=$OUT/isph_0.05" "ISPH 0.04 m=$OUT/isph_0.04" \
-  "WCSPH 0.04 m=$OUT/wcsph_0.04" "ISPH 0.03 m (to 1.2 s)=$OUT/isph_0.03_to_1.2s" \
+  "WCSPH 0.04 m=$OUT/wcsph_0.04" "ISPH 0.03 m (to 0.6 s)=$OUT/isph_0.03_to_0.6s" \
   --figure docs/figures/dam_break_obstacle_3d.png --pareto docs/figures/dam_break_obstacle_3d_pareto.png
