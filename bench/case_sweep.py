@@ -61,10 +61,10 @@ CASES = {
         "fluid_height": 0.55,
         "walls": lambda t: {
             "floor": ([-t, -t, -t], [TANK_3D[0] + t, TANK_3D[1] + t, 0.0]),
-            "wall_x0": ([-t, -t, 0.0], [0.0, TANK_3D[1] + t, TANK_3D[2]]),
-            "wall_x1": ([TANK_3D[0], -t, 0.0], [TANK_3D[0] + t, TANK_3D[1] + t, TANK_3D[2]]),
-            "wall_y0": ([0.0, -t, 0.0], [TANK_3D[0], 0.0, TANK_3D[2]]),
-            "wall_y1": ([0.0, TANK_3D[1], 0.0], [TANK_3D[0], TANK_3D[1] + t, TANK_3D[2]]),
+            "wall_x0": ([-t, 0.0, 0.0], [0.0, TANK_3D[1], TANK_3D[2]]),
+            "wall_x1": ([TANK_3D[0], 0.0, 0.0], [TANK_3D[0] + t, TANK_3D[1], TANK_3D[2]]),
+            "wall_y0": ([-t, -t, 0.0], [TANK_3D[0] + t, 0.0, TANK_3D[2]]),
+            "wall_y1": ([-t, TANK_3D[1], 0.0], [TANK_3D[0] + t, TANK_3D[1] + t, TANK_3D[2]]),
         },
     },
 }

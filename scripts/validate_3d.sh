@@ -24,10 +24,10 @@ walls() {  # walls DX: --set options for SPHERIC Test 2's walls three particles 
     t = 3 * dx; X = 3.22; Y = 1; Z = 1
     printf "--set dx=%g ", dx
     printf "--set bodies.floor.shape={type=\"box\",min=[%g,%g,%g],max=[%g,%g,0]} ", -t, -t, -t, X + t, Y + t
-    printf "--set bodies.wall_x0.shape={type=\"box\",min=[%g,%g,0],max=[0,%g,%g]} ", -t, -t, Y + t, Z
-    printf "--set bodies.wall_x1.shape={type=\"box\",min=[%g,%g,0],max=[%g,%g,%g]} ", X, -t, X + t, Y + t, Z
-    printf "--set bodies.wall_y0.shape={type=\"box\",min=[0,%g,0],max=[%g,0,%g]} ", -t, X, Z
-    printf "--set bodies.wall_y1.shape={type=\"box\",min=[0,%g,0],max=[%g,%g,%g]}\n", Y, X, Y + t, Z }'
+    printf "--set bodies.wall_x0.shape={type=\"box\",min=[%g,0,0],max=[0,%g,%g]} ", -t, Y, Z
+    printf "--set bodies.wall_x1.shape={type=\"box\",min=[%g,0,0],max=[%g,%g,%g]} ", X, X + t, Y, Z
+    printf "--set bodies.wall_y0.shape={type=\"box\",min=[%g,%g,0],max=[%g,0,%g]} ", -t, -t, X + t, Z
+    printf "--set bodies.wall_y1.shape={type=\"box\",min=[%g,%g,0],max=[%g,%g,%g]}\n", -t, Y, X + t, Y + t, Z }'
 }
 CASE=cases/dam_break_obstacle_3d.toml
 NO_SNAPSHOTS=(--set output.snapshots=false)
