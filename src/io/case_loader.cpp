@@ -60,12 +60,6 @@ std::string index_path(const std::string& path, std::size_t index) {
   return path + "[" + std::to_string(index) + "]";
 }
 
-std::string one_of(const Choices& allowed) {
-  std::vector<std::string> quoted;
-  for (const auto& choice : allowed) quoted.push_back(toml_string(choice));
-  return "must be one of " + join(quoted, ", ");
-}
-
 std::string describe(const toml::value& v) {
   switch (v.type()) {
     case toml::value_t::boolean: return "a boolean";

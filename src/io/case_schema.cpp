@@ -454,6 +454,12 @@ std::string toml_string(const std::string& s) {
   return text + "\"";
 }
 
+std::string one_of(const std::vector<std::string>& allowed) {
+  std::string text = "must be one of ";
+  for (std::size_t i = 0; i < allowed.size(); ++i) text += (i ? ", " : "") + toml_string(allowed[i]);
+  return text;
+}
+
 std::string toml_value(const KeyValue& value, int dimension) {
   struct Text {
     int dimension;

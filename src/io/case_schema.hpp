@@ -58,6 +58,8 @@ const std::vector<std::string>& case_sections();
 std::string toml_value(const KeyValue& value, int dimension);
 std::string toml_float(double x);               // with ".0" where it would read as an integer
 std::string toml_string(const std::string& s);  // a TOML basic string
+// `must be one of "a", "b"`: the allowed names of a choice, for error messages.
+std::string one_of(const std::vector<std::string>& allowed);
 std::string shortest_number(double x);          // the shortest text that reads back as the same double
 
 // The markdown table of a section's keys (docs/CASES.md).

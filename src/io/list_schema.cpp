@@ -196,12 +196,9 @@ std::vector<ListKey<Shape>> declare_shapes() {
       .discriminator()
       .choices_in(shape_types)
       .check([](const Shape& s, int d) -> std::string {
-        if (is_planar(s.type) != (d == 2)) {
-          std::string allowed;
-          for (const std::string& name : shape_types(d)) allowed += (allowed.empty() ? "" : ", ") + quoted(name);
+        if (is_planar(s.type) != (d == 2))
           return quoted(std::string(name_of(s.type))) + " is a " + (d == 2 ? "3D" : "2D") +
-                 " shape, but dimension = " + std::to_string(d) + "; must be one of " + allowed;
-        }
+                 " shape, but dimension = " + std::to_string(d) + "; " + one_of(shape_types(d));
         if (s.type == ShapeType::stl && !stl_available())
           return "\"stl\" needs CGAL, and this build has none: apt-get install libcgal-dev, then configure and "
                  "build again";

@@ -304,10 +304,15 @@ Real ParticleSet<D>::potential_energy() const {
 }
 
 template <int D>
+Real ParticleSet<D>::weight_at(const Vec<D>& point, Index b) const {
+  return volume[b] * kernels_.pair(fluid_level_, level[b]).value(std::sqrt(norm2(period_.delta(point, position[b]))));
+}
+
+template <int D>
 Real ParticleSet<D>::interpolate_pressure(const Vec<D>& point) const {
   Real num = 0, den = 0;
   for (Index b = 0; b < size(); ++b) {
-    const Real w = volume[b] * kernels_.pair(fluid_level_, level[b]).value(std::sqrt(norm2(period_.delta(point, position[b]))));
+    const Real w = weight_at(point, b);
     num += w * pressure[b];
     den += w;
   }
@@ -327,7 +332,7 @@ Vec<D> ParticleSet<D>::interpolate_velocity(const Vec<D>& point) const {
   Real den = 0;
   for (Index b = 0; b < size(); ++b) {
     if (kind[b] != FluidKind::fluid) continue;
-    const Real w = volume[b] * kernels_.pair(fluid_level_, level[b]).value(std::sqrt(norm2(period_.delta(point, position[b]))));
+    const Real w = weight_at(point, b);
     num += w * velocity[b];
     den += w;
   }
@@ -360,9 +365,7 @@ Real ParticleSet<D>::water_level(const Vec<D>& point) const {
     Vec<D> x = point;
     x[D - 1] = z;
     Real filled = 0;
-    for (const Index b : column)
-      filled +=
-          volume[b] * kernels_.pair(fluid_level_, level[b]).value(std::sqrt(norm2(period_.delta(x, position[b]))));
+    for (const Index b : column) filled += weight_at(x, b);
     return filled - 0.5;
   };
   // Down from above the highest water in quarter smoothing lengths, then bisection in the first

@@ -276,6 +276,10 @@ class ParticleSet {
   DeviceCellList<D> device_cells_;  // cuda
   DeviceNeighbourList device_neighbours_;
 
+  // V_b W(|x - x_b|), with b's kernel against the fluid's: the weight of particle b in the Shepard
+  // interpolations at x (interpolate_pressure, interpolate_velocity, water_level).
+  Real weight_at(const Vec<D>& point, Index b) const;
+
   Index fluid_count_ = 0, wall_count_ = 0;
   long long neighbour_searches_ = 0, order_version_ = 0;
   Real viscous_wall_power_ = 0;
