@@ -28,8 +28,9 @@ coupled water_uniform --set dx=0.00125 --set bodies.gate.refinement=1
 coupled surface_zero --set 'fluid.surface_pressure="zero"'
 coupled ops --set 'fluid.shifting.type="ops"'
 coupled converged --set coupling.max_iterations=30 --set coupling.first_ppe_tolerance=0
+coupled plane_stress --set 'materials.rubber.plane="stress"'
 
-NAMES=(shipped hourglass_2.5 hourglass_10 cell gate_fine water_uniform surface_zero ops converged)
+NAMES=(shipped hourglass_2.5 hourglass_10 cell gate_fine water_uniform surface_zero ops converged plane_stress)
 for name in "${NAMES[@]}"; do
   echo "== $name"; $PY scripts/gate_rmse.py "$OUT/$name"
 done
@@ -43,7 +44,7 @@ for name in names:
 PYEOF
 runs=$(printf "$OUT/%s," "${NAMES[@]}")
 $PY scripts/plot.py compare --runs "${runs%,}" --field tip.ux \
-  --labels "as shipped,hourglass 2.5,hourglass 10,cell quadrature,gate T/dx = 8,water 1.25 mm,surface p = 0,OPS shifting,converged interface" \
+  --labels "as shipped,hourglass 2.5,hourglass 10,cell quadrature,gate T/dx = 8,water 1.25 mm,surface p = 0,OPS shifting,converged interface,plane stress" \
   --reference "$REF/ng_2020_elastic_dam_break_x_displacement_khayyer_2018_isph_sph.csv:Khayyer 2018" \
   --reference "$REF/ng_2020_elastic_dam_break_x_displacement_yang_2012_sph_fem.csv:Yang 2012" \
   --out docs/figures/gate_candidates_ux.png

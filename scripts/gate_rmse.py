@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """The elastic gate's tip against the reference curves (../shared/reference/antoci_2007_elastic_gate):
 RMSE of u_x and u_y per reference over the run (or up to --until), the peak u_x and its time, and the
-run's wall time. One line per run folder; --csv writes the table as CSV.
+run's wall time. One line per run folder; --csv writes the table as CSV. In a 3D run (the tip's u_z
+exists) the references' vertical u_y is compared with u_z, the vertical there.
 
   /usr/bin/python3 scripts/gate_rmse.py RUN [RUN ...] [--until T] [--csv FILE]
 """
@@ -46,8 +47,10 @@ def main():
         t = d["time"]
         keep = t <= args.until
         row = [run]
+        vertical = "tip.uz" if "tip.uz" in d else "tip.uy"
         for (comp, _), ref in refs.items():
-            row.append(f"{rmse_against(t[keep], d['tip.u' + comp][keep], ref) * 1e3:.2f}")
+            u = d["tip.ux"] if comp == "x" else d[vertical]
+            row.append(f"{rmse_against(t[keep], u[keep], ref) * 1e3:.2f}")
         ux = d["tip.ux"]
         row += [f"{ux.max() * 1e3:.1f}", f"{t[np.argmax(ux)]:.3f}", f"{t[-1]:.3f}"]
         summary = os.path.join(run, "summary.json")

@@ -4,7 +4,11 @@
 #   2. SPHERIC Test 2 (cases/dam_break_obstacle_3d.toml) for its 6 s with ISPH at dx = 0.05 and 0.04 m and
 #      with the weakly compressible comparator at 0.04 m, and ISPH at 0.03 m over the first impact (0.6 s);
 #      the walls three particles thick at each dx;
-# then the table of scripts/dam_break_3d_report.py and its figures. About 2.5 hours on 2 cores.
+#   3. the 3D elastic gate (cases/elastic_gate_3d.toml) as shipped (gate 1.25 mm) and at gate 2.5 mm, and
+#      the 2D gate at the same spacings (water 5 mm, walls three particles thick) in plane strain and in
+#      plane stress;
+# then the tables of scripts/dam_break_3d_report.py and scripts/gate_rmse.py and their figures. About
+# 5 hours on 2 cores.
 #   bash scripts/validate_3d.sh          # OUT=runs/validate_3d, THREADS=2
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -44,7 +48,24 @@ run wcsph_0.04 "$CASE" "${WALLS[@]}" --set 'fluid.model="wcsph"' "${NO_SNAPSHOTS
 read -ra WALLS <<< "$(walls 0.03)"
 run isph_0.03_to_0.6s "$CASE" "${WALLS[@]}" --set end_time=0.6 "${NO_SNAPSHOTS[@]}"
 
+GATE_2D=(cases/elastic_gate.toml --set dx=0.005 --set structure.courant=0.6 "${NO_SNAPSHOTS[@]}"
+  --set 'bodies.floor.shape={type="rectangle",min=[-0.015,-0.015],max=[0.515,0]}'
+  --set 'bodies.left_wall.shape={type="rectangle",min=[-0.015,0],max=[0,0.2]}'
+  --set 'bodies.right_wall.shape={type="rectangle",min=[0.5,0],max=[0.515,0.2]}')
+for r in 4 2; do
+  run "gate_3d_refinement_$r" cases/elastic_gate_3d.toml --set "bodies.gate.refinement=$r" "${NO_SNAPSHOTS[@]}"
+  run "gate_2d_refinement_$r" "${GATE_2D[@]}" --set "bodies.gate.refinement=$r"
+  run "gate_2d_plane_stress_refinement_$r" "${GATE_2D[@]}" --set "bodies.gate.refinement=$r" \
+    --set 'materials.rubber.plane="stress"'
+done
+
 echo "== SPHERIC Test 2"
 $PY scripts/dam_break_3d_report.py "ISPH 0.05 m=$OUT/isph_0.05" "ISPH 0.04 m=$OUT/isph_0.04" \
   "WCSPH 0.04 m=$OUT/wcsph_0.04" "ISPH 0.03 m (to 0.6 s)=$OUT/isph_0.03_to_0.6s" \
   --figure docs/figures/dam_break_obstacle_3d.png --pareto docs/figures/dam_break_obstacle_3d_pareto.png
+
+echo "== The 3D elastic gate"
+$PY scripts/gate_rmse.py "$OUT"/gate_{3d,2d,2d_plane_stress}_refinement_{4,2}
+$PY scripts/gate_3d_report.py "3D, gate 1.25 mm=$OUT/gate_3d_refinement_4" "3D, gate 2.5 mm=$OUT/gate_3d_refinement_2" \
+  "2D plane strain, gate 1.25 mm=$OUT/gate_2d_refinement_4" "2D plane stress, gate 1.25 mm=$OUT/gate_2d_plane_stress_refinement_4" \
+  --figure docs/figures/elastic_gate_3d.png
