@@ -16,11 +16,15 @@ fs::path gate_strip_case(const fs::path& folder, int dimension, const std::strin
   fs::create_directories(folder);
   const fs::path file = folder / "gate_strip.toml";
   const bool three = dimension == 3;
-  std::ofstream(file) << "name = \"gate_strip\"\ndimension = " << dimension << R"(
+  // A point (x, across, up): in 2D the across component is dropped.
+  const auto at = [three](const std::string& x, const std::string& y, const std::string& z) {
+    return "[" + x + (three ? ", " + y : "") + ", " + z + "]";
+  };
+  const std::string shape = three ? "box" : "rectangle";
+  std::ofstream(file) << "name = \"gate_strip\"\ndimension = " << dimension << "\ngravity = " << at("0.0", "0.0", "0.0")
+                      << R"(
 dx = 0.0025
 end_time = 0.12
-gravity = )" << (three ? "[0.0, 0.0, 0.0]" : "[0.0, 0.0]")
-                      << R"(
 [structure]
 integrator = "verlet"
 courant = 0.6
@@ -34,38 +38,17 @@ density = 1100.0
 youngs_modulus = 12.0e6
 poisson_ratio = 0.4
 )" << (three ? "" : "plane = \"" + plane + "\"\n")
-                      << R"([[bodies]]
-name = "gate"
-kind = "structure"
-material = "rubber"
-)"
-                      << (three ? R"(shape = { type = "box", min = [0.1, 0.0, 0.0], max = [0.105, 0.05, 0.16] }
-clamps = [ { type = "box", min = [0.1, 0.0, 0.079], max = [0.105, 0.05, 0.16] } ]
-[[loads]]
-type = "traction"
-body = "gate"
-region = { type = "box", min = [0.0999, 0.0, 0.0], max = [0.1001, 0.05, 0.079] }
-traction = [100.0, 0.0, 0.0]
-ramp_time = 0.02
-[[probes]]
-name = "tip"
-point = [0.1025, 0.025, 0.0]
-[[probes]]
-name = "side"
-point = [0.1025, 0.0, 0.0]
-)"
-                                : R"(shape = { type = "rectangle", min = [0.1, 0.0], max = [0.105, 0.16] }
-clamps = [ { type = "rectangle", min = [0.1, 0.079], max = [0.105, 0.16] } ]
-[[loads]]
-type = "traction"
-body = "gate"
-region = { type = "rectangle", min = [0.0999, 0.0], max = [0.1001, 0.079] }
-traction = [100.0, 0.0]
-ramp_time = 0.02
-[[probes]]
-name = "tip"
-point = [0.1025, 0.0]
-)");
+                      << "[[bodies]]\nname = \"gate\"\nkind = \"structure\"\nmaterial = \"rubber\"\n"
+                      << "shape = { type = \"" << shape << "\", min = " << at("0.1", "0.0", "0.0")
+                      << ", max = " << at("0.105", "0.05", "0.16") << " }\n"
+                      << "clamps = [ { type = \"" << shape << "\", min = " << at("0.1", "0.0", "0.079")
+                      << ", max = " << at("0.105", "0.05", "0.16") << " } ]\n"
+                      << "[[loads]]\ntype = \"traction\"\nbody = \"gate\"\nramp_time = 0.02\n"
+                      << "region = { type = \"" << shape << "\", min = " << at("0.0999", "0.0", "0.0")
+                      << ", max = " << at("0.1001", "0.05", "0.079") << " }\n"
+                      << "traction = " << at("100.0", "0.0", "0.0") << "\n"
+                      << "[[probes]]\nname = \"tip\"\npoint = " << at("0.1025", "0.025", "0.0") << "\n"
+                      << (three ? "[[probes]]\nname = \"side\"\npoint = [0.1025, 0.0, 0.0]\n" : "");
   return file;
 }
 
