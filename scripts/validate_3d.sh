@@ -8,8 +8,10 @@
 #      2D gate at the same spacings in plane strain and plane stress (structure Courant 0.6, as in 3D), and
 #      the water-5-mm study of docs/VALIDATION.md section 31 (gate 1.25 and 2.5 mm, 3D and 2D; walls
 #      three water particles thick);
-# then the tables of scripts/dam_break_3d_report.py and scripts/gate_rmse.py and their figures. About
-# 5 hours on 2 cores.
+#   4. the 3D hydrostatic plate (cases/hydrostatic_plate_3d.toml) and its plate alone
+#      (cases/hydrostatic_plate_3d_dry.toml), and the 3D continuum by finite elements (scripts/fe_plate_3d.py);
+# then the tables of scripts/dam_break_3d_report.py, scripts/gate_rmse.py and scripts/plate_3d_report.py and
+# their figures. About 7 hours on 2 cores.
 #   bash scripts/validate_3d.sh          # OUT=runs/validate_3d, THREADS=2
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -69,6 +71,9 @@ for r in 4 2; do  # the gate 1.25 and 2.5 mm under water 5 mm
   run "gate_2d_water_5mm_refinement_$r" "${GATE_2D[@]}" "${WATER_5MM_2D[@]}" --set "bodies.gate.refinement=$r"
 done
 
+run plate_3d cases/hydrostatic_plate_3d.toml "${NO_SNAPSHOTS[@]}"
+run plate_3d_dry cases/hydrostatic_plate_3d_dry.toml
+
 echo "== SPHERIC Test 2"
 $PY scripts/dam_break_3d_report.py "ISPH 0.05 m=$OUT/isph_0.05" "ISPH 0.04 m=$OUT/isph_0.04" \
   "WCSPH 0.04 m=$OUT/wcsph_0.04" "ISPH 0.03 m (to 0.6 s)=$OUT/isph_0.03_to_0.6s" \
@@ -79,3 +84,10 @@ $PY scripts/gate_rmse.py "$OUT"/gate_{3d,2d,2d_plane_stress} "$OUT"/gate_{3d,2d}
 $PY scripts/gate_3d_report.py "3D, water 2.5 mm, gate 1.25 mm (as shipped)=$OUT/gate_3d" \
   "2D plane strain, same spacings (the 2D case)=$OUT/gate_2d" "2D plane stress, same spacings=$OUT/gate_2d_plane_stress" \
   "3D, water 5 mm, gate 1.25 mm=$OUT/gate_3d_water_5mm_refinement_4" --figure docs/figures/elastic_gate_3d.png
+
+echo "== The 3D hydrostatic plate"
+for elements in "8 1" "12 2" "16 2" "12 4"; do
+  # shellcheck disable=SC2086 # two numbers
+  $PY scripts/fe_plate_3d.py --elements $elements | grep -E "^elements|continuum"
+done
+$PY scripts/plate_3d_report.py "$OUT/plate_3d" --dry "$OUT/plate_3d_dry" --figure docs/figures/hydrostatic_plate_3d.png

@@ -18,12 +18,11 @@ using namespace isph;
 namespace {
 
 // Loads the case and builds its scene, so that `check` finds every problem a run would.
+// Its warnings go to stderr.
 CaseSpec load_and_check(const std::string& path, const std::vector<std::string>& overrides) {
   CaseSpec spec = load_case(path, overrides);
-  if (spec.dimension == 3)
-    build_scene<3>(spec);
-  else
-    build_scene<2>(spec);
+  const auto warnings = spec.dimension == 3 ? build_scene<3>(spec).warnings : build_scene<2>(spec).warnings;
+  for (const auto& w : warnings) std::cerr << "warning: " << w << "\n";
   return spec;
 }
 

@@ -175,7 +175,7 @@ class RunFrame {
     last_progress_ = Clock::now();
     const double elapsed = seconds_since(wall0_);
     const double done = (t - start_time_) / (spec_.end_time - start_time_);
-    std::fprintf(stderr, "[%s] t = %.4g / %.4g s (%.0f%%)  %.0f steps/s  ETA %s\n", spec_.name.c_str(), t,
+    std::fprintf(stderr, "[%s] t = %.4g / %.4g s (%.0f%%)  %.3g steps/s  ETA %s\n", spec_.name.c_str(), t,
                  spec_.end_time, 100.0 * t / spec_.end_time, steps / std::max(1e-9, stepping_seconds),
                  format_duration(elapsed / done - elapsed).c_str());
   }
@@ -783,6 +783,7 @@ RunResult run_dimension(const CaseSpec& spec, const RunOptions& opt) {
   PhaseTimer timer;
   Scene<D> scene;
   timer.time("setup", [&] { scene = build_scene<D>(spec); });
+  for (const auto& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   return scene.has_fluid ? run_fluid<D>(spec, opt, scene, timer) : run_structure<D>(spec, opt, scene, timer);
 }
 

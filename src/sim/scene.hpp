@@ -47,6 +47,7 @@ struct Scene {
   Real body_extent = 0;              // largest body size, for the divergence test
   Vec<D> domain_lo, domain_hi;       // fluid: a particle leaving this box has escaped
   Vec<D> up = Vec<D>::zero();        // against gravity (unit; zero without gravity)
+  std::vector<std::string> warnings;  // what may spoil a run without making the case wrong (printed by check and run)
   Real rim = 0;                      // the highest corner, along `up`, of the box of the set-up's particles and
                                      // walls' paths, less 2h: an escaped particle above it was thrown out over
                                      // the walls
