@@ -27,7 +27,13 @@ from fe_beam import lagrange
 
 THICKNESS = 0.05
 YOUNGS, POISSON, DENSITY = 67.5e9, 0.34, 2700.0
-WATER_DENSITY, GRAVITY = 1000.0, 9.81
+WATER_DENSITY, GRAVITY, HEAD = 1000.0, 9.81, 0.5  # the case's water column
+
+
+def thin_plate(span, pressure):
+    """Kirchhoff's centre deflection 0.00126 q a^4 / D under the pressure and the plate's weight."""
+    load = pressure + DENSITY * GRAVITY * THICKNESS
+    return 0.00126 * load * span**4 / (YOUNGS * THICKNESS**3 / (12 * (1 - POISSON**2)))
 
 
 def element_stiffness(size, C):
@@ -108,16 +114,15 @@ def main():
     parser.add_argument("--elements", type=int, nargs=2, default=[8, 1], metavar=("N_PLANE", "N_THICK"),
                         help="elements along the quarter plate's side and through the thickness")
     parser.add_argument("--span", type=float, default=1.0, help="a [m] (default: the case's 1 m)")
-    parser.add_argument("--pressure", type=float, default=WATER_DENSITY * GRAVITY * 0.5,
+    parser.add_argument("--pressure", type=float, default=WATER_DENSITY * GRAVITY * HEAD,
                         help="on the top face [Pa] (default: rho_w g H under the case's 0.5 m of water)")
     args = parser.parse_args()
     w, unknowns = solve(*args.elements, args.span, args.pressure)
-    load = args.pressure + DENSITY * GRAVITY * THICKNESS
-    rigidity = YOUNGS * THICKNESS**3 / (12 * (1 - POISSON**2))
+    weight = DENSITY * GRAVITY * THICKNESS
     print(f"elements {args.elements[0]} x {args.elements[0]} x {args.elements[1]} (quarter), {unknowns} unknowns")
-    print(f"load q = {load:.1f} Pa (pressure {args.pressure:.1f}, plate weight {DENSITY * GRAVITY * THICKNESS:.1f})")
+    print(f"load q = {args.pressure + weight:.1f} Pa (pressure {args.pressure:.1f}, plate weight {weight:.1f})")
     print(f"centre deflection, 3D continuum: {-w:.5e} m")
-    print(f"thin-plate theory 0.00126 q a^4 / D: {0.00126 * load * args.span**4 / rigidity:.5e} m")
+    print(f"thin-plate theory 0.00126 q a^4 / D: {thin_plate(args.span, args.pressure):.5e} m")
 
 
 if __name__ == "__main__":

@@ -14,13 +14,14 @@ import numpy as np
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+from fe_plate_3d import GRAVITY, HEAD, WATER_DENSITY, thin_plate  # noqa: E402
 from report_common import pct, read_probes, summary, table  # noqa: E402
 
 # scripts/fe_plate_3d.py --elements 16 2 under 0.5 m of water and the plate's weight (section 32); 12 x 12 x 2
 # elements give 1.0284e-5 m, 12 x 12 x 4 1.0291e-5.
 CONTINUUM = 1.0309e-5
-# Timoshenko & Woinowsky-Krieger (1959), Table 35: 0.00126 q a^4 / D, q = rho_w g H + rho_s g T.
-THIN_PLATE = 0.00126 * (1000 * 9.81 * 0.5 + 2700 * 9.81 * 0.05) / (67.5e9 * 0.05**3 / (12 * (1 - 0.34**2)))
+COLUMN = WATER_DENSITY * GRAVITY * HEAD  # the water's pressure on the plate, and its weight over the 1 m^2 [N]
+THIN_PLATE = thin_plate(1.0, COLUMN)
 
 
 def whole_periods(t, u, start):
@@ -53,14 +54,15 @@ def main():
             ["thin-plate theory", f"{THIN_PLATE:.4g}", f"{pct(THIN_PLATE, CONTINUUM):+.2f}", "", ""]]
     dry = -read_probes(args.dry)["centre.uz"][-1] if args.dry else None
     if dry is not None:
+        ds = summary(args.dry)
         rows.append(["the plate alone, at rest (T/dx = 4)", f"{dry:.4g}", f"{pct(dry, CONTINUUM):+.2f}", "",
-                     f"{summary(args.dry)['wall_time_s']:.0f} s, {summary(args.dry)['performance'].get('threads', '')} threads"])
+                     f"{ds['wall_time_s']:.0f} s, {ds['performance'].get('threads', '')} threads"])
     rows.append([f"coupled, mean over {t0:.4f}-{t1:.4f} s", f"{mean:.4g}", f"{pct(mean, CONTINUUM):+.2f}",
                  f"{w.max():.4g} ({w.max() / CONTINUUM:.2f} of static)",
                  f"{s['wall_time_s']:.0f} s, {s['performance']['threads']} threads"])
     table(["run", "centre deflection [m]", "against the continuum %", "peak [m]", "wall time"], rows)
     print(f"\nperiod of the coupled oscillation {period * 1e3:.2f} ms; mean force on the plate over the run "
-          f"{-force:.1f} N (the column's weight {1000 * 9.81 * 0.5:.1f} N)")
+          f"{-force:.1f} N (the column's weight {COLUMN:.1f} N)")
 
     fig, ax = plt.subplots(figsize=(8, 4))
     ax.plot(t, w * 1e6, lw=0.8, marker="o", ms=2.5,

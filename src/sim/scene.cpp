@@ -431,9 +431,10 @@ void check_meshes_in_tank(const CaseSpec& spec, const std::string& file, std::ve
 // (the shipped case) it did not (docs/VALIDATION.md section 31). In 2D no harm was measured. Measured on
 // box shapes, whose thinnest side is the thickness.
 template <int D>
-void warn_thin_structures(const CaseSpec& spec, const std::string& file, std::vector<std::string>& warnings) {
+void warn_thin_structures(const CaseSpec& spec, const Resolutions& resolutions, const std::string& file,
+                          std::vector<std::string>& warnings) {
   if (D != 3 || !spec.stages.fluid || !spec.stages.structure) return;
-  const Real support = SmoothingKernel<D>::make(spec.kernel.type, spec.kernel.h_factor * spec.dx).support();
+  const Real support = resolutions.kernels<D>(spec.kernel).kernel[resolutions.fluid_level()].support();
   for (std::size_t bi = 0; bi < spec.bodies.size(); ++bi) {
     const BodySpec& b = spec.bodies[bi];
     if (b.kind != ParticleKind::structure || b.shape.type != ShapeType::box) continue;
@@ -673,7 +674,7 @@ Scene<D> build_scene(const CaseSpec& spec) {
                          " m; a structure may be finer than the water, not coarser");
   check_meshes_in_tank<D>(spec, file, problems);
   if (!problems.empty()) throw CaseError(problems);
-  warn_thin_structures<D>(spec, file, scene.warnings);
+  warn_thin_structures<D>(spec, resolutions, file, scene.warnings);
   for (const auto& m : spec.materials) s.materials.push_back(elastic_material(m, D));
   for (std::size_t bi = 0; bi < spec.bodies.size(); ++bi) {
     const BodySpec& body = spec.bodies[bi];
