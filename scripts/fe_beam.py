@@ -72,47 +72,82 @@ def lagrange(s):
     return np.array([s * (s - 1) / 2, 1 - s * s, s * (s + 1) / 2]), np.array([s - 0.5, -2 * s, s + 0.5])
 
 
-def solve(beam, nx, ny, steps):
-    E, nu = beam.youngs, beam.poisson
-    mu = E / (2 * (1 + nu))
-    lam = E * nu / (1 - nu**2) if beam.plane == "stress" else E * nu / ((1 + nu) * (1 - 2 * nu))
-    nodes_x, nodes_y = 2 * nx + 1, 2 * ny + 1
-    node = lambda i, j: i * nodes_y + j
-    n_nodes = nodes_x * nodes_y
-    elements = np.array([[node(2 * ex + a, 2 * ey + b) for a in range(3) for b in range(3)]
-                         for ex in range(nx) for ey in range(ny)])
-    hx, hy = beam.length / nx, beam.thickness / ny
-    gauss, weight = np.array([-np.sqrt(0.6), 0.0, np.sqrt(0.6)]), np.array([5 / 9, 8 / 9, 5 / 9])
-    grads, shapes, weights = [], [], []
-    for a in range(3):
-        for b in range(3):
-            (na, da), (nb, db) = lagrange(gauss[a]), lagrange(gauss[b])
-            grads.append(np.stack([np.outer(da, nb).ravel() * 2 / hx, np.outer(na, db).ravel() * 2 / hy], 1))
-            shapes.append(np.outer(na, nb).ravel())
-            weights.append(weight[a] * weight[b] * hx * hy / 4)
-    G = np.array(grads)          # (gauss point, node of the element, reference direction)
-    w = np.array(weights)
-    C = np.array([[lam + 2 * mu, lam, 0], [lam, lam + 2 * mu, 0], [0, 0, mu]])
+class Q9Solid:
+    """The beam as a mesh of nx x ny Q9 elements: nodes, degrees of freedom, loads and the element loops."""
 
-    dofs = np.stack([2 * elements, 2 * elements + 1], 2).reshape(len(elements), 18)
-    clamped = np.array([node(0 if end == 0 else nodes_x - 1, j) for end in beam.clamped_ends for j in range(nodes_y)])
-    free = np.setdiff1d(np.arange(2 * n_nodes), np.concatenate([2 * clamped, 2 * clamped + 1]))
-    # Dead loads: consistent nodal forces (Simpson's weights along an element edge, the element's
-    # shape functions for the weight), downwards.
-    f_ext = np.zeros(2 * n_nodes)
-    simpson = (1 / 6, 4 / 6, 1 / 6)
-    for ey in range(ny):
-        for k, c in enumerate(simpson):
-            f_ext[2 * node(nodes_x - 1, 2 * ey + k) + 1] -= beam.end_load / beam.thickness * hy * c
-    for ex in range(nx):
-        for k, c in enumerate(simpson):
-            f_ext[2 * node(2 * ex + k, nodes_y - 1) + 1] -= beam.top_pressure * hx * c
-    if beam.density > 0:
-        body = np.einsum("g,ga->a", w, np.array(shapes)) * beam.density * 9.81
-        np.add.at(f_ext, dofs[:, 1::2], -body)
+    def __init__(self, beam, nx, ny):
+        self.beam, self.nx, self.ny = beam, nx, ny
+        E, nu = beam.youngs, beam.poisson
+        self.mu = E / (2 * (1 + nu))
+        self.lam = E * nu / (1 - nu**2) if beam.plane == "stress" else E * nu / ((1 + nu) * (1 - 2 * nu))
+        self.nodes_x, self.nodes_y = 2 * nx + 1, 2 * ny + 1
+        self.n_nodes = self.nodes_x * self.nodes_y
+        self.elements = np.array([[self.node(2 * ex + a, 2 * ey + b) for a in range(3) for b in range(3)]
+                                  for ex in range(nx) for ey in range(ny)])
+        self.hx, self.hy = beam.length / nx, beam.thickness / ny
+        gauss, weight = np.array([-np.sqrt(0.6), 0.0, np.sqrt(0.6)]), np.array([5 / 9, 8 / 9, 5 / 9])
+        grads, shapes, weights = [], [], []
+        for a in range(3):
+            for b in range(3):
+                (na, da), (nb, db) = lagrange(gauss[a]), lagrange(gauss[b])
+                grads.append(np.stack([np.outer(da, nb).ravel() * 2 / self.hx, np.outer(na, db).ravel() * 2 / self.hy], 1))
+                shapes.append(np.outer(na, nb).ravel())
+                weights.append(weight[a] * weight[b] * self.hx * self.hy / 4)
+        self.G = np.array(grads)     # (gauss point, node of the element, reference direction)
+        self.N = np.array(shapes)    # (gauss point, node of the element)
+        self.w = np.array(weights)
+        self.dofs = np.stack([2 * self.elements, 2 * self.elements + 1], 2).reshape(len(self.elements), 18)
+        clamped = np.array([self.node(0 if end == 0 else self.nodes_x - 1, j)
+                            for end in beam.clamped_ends for j in range(self.nodes_y)])
+        self.free = np.setdiff1d(np.arange(2 * self.n_nodes), np.concatenate([2 * clamped, 2 * clamped + 1]))
 
-    def tangent_and_residual(u):
-        ue = u[dofs].reshape(len(elements), 9, 2)                            # (e, node, i)
+    def node(self, i, j):
+        return i * self.nodes_y + j
+
+    def assemble(self, per_element):
+        """The global matrix of per-element 18 x 18 blocks."""
+        n = 2 * self.n_nodes
+        return np.bincount((self.dofs[:, :, None] * n + self.dofs[:, None, :]).ravel(), per_element.ravel(),
+                           n * n).reshape(n, n)
+
+    def dead_load(self):
+        """The beam's end load, top pressure and weight as consistent nodal forces (Simpson's weights along
+        an element edge, the element's shape functions for the weight), downwards."""
+        beam, f_ext = self.beam, np.zeros(2 * self.n_nodes)
+        simpson = (1 / 6, 4 / 6, 1 / 6)
+        for ey in range(self.ny):
+            for k, c in enumerate(simpson):
+                f_ext[2 * self.node(self.nodes_x - 1, 2 * ey + k) + 1] -= beam.end_load / beam.thickness * self.hy * c
+        for ex in range(self.nx):
+            for k, c in enumerate(simpson):
+                f_ext[2 * self.node(2 * ex + k, self.nodes_y - 1) + 1] -= beam.top_pressure * self.hx * c
+        if beam.density > 0:
+            body = np.einsum("g,ga->a", self.w, self.N) * beam.density * 9.81
+            np.add.at(f_ext, self.dofs[:, 1::2], -body)
+        return f_ext
+
+    def mass(self):
+        """The consistent mass matrix, M_ab = integral of rho N_a N_b, per displacement component."""
+        Me = np.zeros((len(self.elements), 18, 18))
+        block = self.beam.density * np.einsum("g,ga,gb->ab", self.w, self.N, self.N)
+        Me[:, 0::2, 0::2] = block
+        Me[:, 1::2, 1::2] = block
+        return self.assemble(Me)
+
+    def point_loads(self, points):
+        """The matrix that maps forces at reference points (k, component) to nodal forces: each force is
+        spread on its element's nodes with the shape functions at its point."""
+        P = np.zeros((2 * self.n_nodes, 2 * len(points)))
+        for k, (x, y) in enumerate(points):
+            ex, ey = min(int(x / self.hx), self.nx - 1), min(int(y / self.hy), self.ny - 1)
+            (na, _), (nb, _) = lagrange(2 * x / self.hx - 2 * ex - 1), lagrange(2 * y / self.hy - 2 * ey - 1)
+            for dof, n_a in zip(self.dofs[ex * self.ny + ey].reshape(9, 2), np.outer(na, nb).ravel()):
+                P[dof, [2 * k, 2 * k + 1]] += n_a
+        return P
+
+    def tangent_and_residual(self, u):
+        lam, mu, G, w = self.lam, self.mu, self.G, self.w
+        ue = u[self.dofs].reshape(len(self.elements), 9, 2)                  # (e, node, i)
         F = np.eye(2) + np.einsum("eai,gaJ->egiJ", ue, G)                    # F_iJ at each Gauss point
         E = 0.5 * (np.einsum("egiI,egiJ->egIJ", F, F) - np.eye(2))
         S = lam * np.trace(E, axis1=2, axis2=3)[..., None, None] * np.eye(2) + 2 * mu * E
@@ -123,30 +158,36 @@ def solve(beam, nx, ny, steps):
         B[..., 2, :, :] = (np.einsum("egi,ga->egai", F[..., :, 0], G[..., 1]) +
                            np.einsum("egi,ga->egai", F[..., :, 1], G[..., 0]))
         B = B.reshape(F.shape[:2] + (3, 18))
+        C = np.array([[lam + 2 * mu, lam, 0], [lam, lam + 2 * mu, 0], [0, 0, mu]])
         Sv = np.stack([S[..., 0, 0], S[..., 1, 1], S[..., 0, 1]], -1)
         Re = np.einsum("g,egvk,egv->ek", w, B, Sv)
         Ke = np.einsum("g,egvk,vw,egwl->ekl", w, B, C, B, optimize=True)
         geometric = np.einsum("g,gaI,egIJ,gbJ->eab", w, G, S, G, optimize=True)  # G S G^T, per displacement component
         Ke[:, 0::2, 0::2] += geometric
         Ke[:, 1::2, 1::2] += geometric
-        n = 2 * n_nodes
-        K = np.bincount((dofs[:, :, None] * n + dofs[:, None, :]).ravel(), Ke.ravel(), n * n).reshape(n, n)
-        R = np.bincount(dofs.ravel(), Re.ravel(), n)
-        return K, R
+        return self.assemble(Ke), np.bincount(self.dofs.ravel(), Re.ravel(), 2 * self.n_nodes)
 
-    u = np.zeros(2 * n_nodes)
+    def probe(self, u):
+        """u at the probe, on the mid-line."""
+        i = round(self.beam.probe_x / self.beam.length * (self.nodes_x - 1))
+        return u.reshape(-1, 2)[self.node(i, self.ny)]
+
+
+def solve(beam, nx, ny, steps):
+    solid = Q9Solid(beam, nx, ny)
+    f_ext, free = solid.dead_load(), solid.free
+    u = np.zeros(2 * solid.n_nodes)
     for step in range(1, steps + 1):
         target = f_ext * step / steps
         for _ in range(30):
-            K, R = tangent_and_residual(u)
+            K, R = solid.tangent_and_residual(u)
             du = np.linalg.solve(K[np.ix_(free, free)], (target - R)[free])
             u[free] += du
             if np.linalg.norm(du) <= 1e-12 * np.linalg.norm(u):
                 break
         else:
             raise RuntimeError(f"Newton did not converge in load step {step}")
-    i = round(beam.probe_x / beam.length * (nodes_x - 1))
-    return u.reshape(-1, 2)[node(i, ny)]
+    return solid.probe(u)
 
 
 def main():

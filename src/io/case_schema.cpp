@@ -307,7 +307,9 @@ std::vector<CaseKey> declare_keys() {
           "steps then end at the cap (`unconverged_steps` counts them), and summary.json's "
           "`performance.coupling.mean_interface_residual` and `max_interface_residual` give |H(a) − a| / |a_s| at each "
           "step's end; their tip and deflection histories stay within 0.13 mm and 1.5 % of converged iterations "
-          "(docs/VALIDATION.md §12)");
+          "(docs/VALIDATION.md §12). Where the mean residual exceeds 1 the run warns at its end (stderr and "
+          "`performance.coupling.warning`): two iterations do not carry to finer water (the gate at 0.625 mm, "
+          "docs/VALIDATION.md §25)");
   add(
       keys, "coupling", "first_ppe_tolerance", [](auto& c) -> auto& { return c.coupling.first_ppe_tolerance; })
       .bounds(KeyBounds{0, 1, false, true})

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 namespace isph {
@@ -333,7 +334,21 @@ JsonObject StructureCoupling<D>::summary() const {
       .set("steps_with_wall_contact", steps_with_wall_contact_)
       .set("max_wall_overlap", max_wall_overlap_);
   contact_.write(o, "structure");
+  if (const std::string warning = convergence_warning(); !warning.empty()) o.set("warning", warning);
   return o;
+}
+
+template <int D>
+std::string StructureCoupling<D>::convergence_warning() const {
+  const Real mean = steps_ > 0 ? residual_sum_ / steps_ : 0.0;
+  if (mean <= 1.0) return {};
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "the interface iterations ended with a mean residual |H(a) - a| / |a_s| of %.3g (largest %.3g) "
+                "after at most %d iterations per step: the load the structure felt is not the water's; raise "
+                "coupling.max_iterations (docs/CASES.md)",
+                mean, max_residual_, max_iterations_seen_);
+  return buf;
 }
 
 template class StructureCoupling<2>;

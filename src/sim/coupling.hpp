@@ -68,14 +68,15 @@
 //
 // n_sub comes from the structure's own stability limit each fluid step, ceil(dt / dt_s) with
 // dt_s = courant h / c_p, or is fixed by coupling.substeps (the seed's fixed ratio, for comparison).
+#include <string>
 #include <vector>
 
 #include "io/case.hpp"
 #include "io/output.hpp"
 #include "sim/interface_quasi_newton.hpp"
 #include "sim/isph.hpp"
-#include "sim/wcsph.hpp"
 #include "sim/phase_timer.hpp"
+#include "sim/wcsph.hpp"
 #include "structure/interaction.hpp"
 #include "structure/tlsph.hpp"
 
@@ -117,6 +118,10 @@ class StructureCoupling {
   long long substeps() const { return substeps_; }
   // Iterations, substeps, penetration, distances and the force on the structure, for summary.json.
   JsonObject summary() const;
+  // A warning where the interface iterations ended, on average over the steps, further from converged
+  // than the structure's acceleration is large (mean |H(a) - a| / |a_s| above 1): the load the structure
+  // felt is then not the water's (docs/VALIDATION.md section 25); empty otherwise.
+  std::string convergence_warning() const;
 
  private:
   // Runs the substeps across [t, t + dt] with the current interaction field; returns their count and

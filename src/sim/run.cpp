@@ -758,7 +758,11 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   perf.set("threads", static_cast<long long>(omp_get_max_threads()))
       .set("mean_fluid_dt", step > 0 ? (t - start_time) / step : 0.0)
       .set("fluid_particle_steps_per_s", stepping > 0 ? double(initial_fluid) * step / stepping : 0.0);
-  if (coupling) perf.set("coupling", coupling->summary());
+  if (coupling) {
+    perf.set("coupling", coupling->summary());
+    if (const std::string warning = coupling->convergence_warning(); !warning.empty())
+      std::fprintf(stderr, "warning: %s\n", warning.c_str());
+  }
   if (wcsph) {
     JsonObject w;
     w.set("time_stepping", name_of(spec.fluid.wcsph.time_stepping))
