@@ -15,32 +15,11 @@ set beside the run's tip probe. The loop is open: the finite-element gate's moti
 """
 import argparse
 import csv
-import glob
-import tomllib
 
-import h5py
 import numpy as np
 
 from fe_beam import Beam, Q9Solid
-
-
-def read_loads(run):
-    """Snapshot times, the gate particles' reference positions (x, y) and their forces (time, particle, 2)."""
-    case = tomllib.load(open(f"{run}/case.resolved.toml", "rb"))
-    gate = next(b for b in case["bodies"] if b["kind"] == "structure")
-    material = next(m for m in case["materials"] if m["name"] == gate["material"])
-    spacing = case["dx"] / gate.get("refinement", 1)
-    mass = material["density"] * spacing**2       # per unit depth
-    times, forces, reference = [], [], None
-    for path in sorted(glob.glob(f"{run}/snapshots/snapshot_*.h5")):
-        with h5py.File(path) as f:
-            structure = f["kind"][:] == 2
-            order = np.argsort(f["id"][:][structure])
-            if reference is None:
-                reference = f["position"][:][structure][order, :2]
-            times.append(f.attrs["time"])
-            forces.append(mass * f["structure_interaction"][:][structure][order, :2])
-    return case, gate, material, np.array(times), reference, np.array(forces)
+from gate_load import GateRun
 
 
 def main():
@@ -51,18 +30,22 @@ def main():
     parser.add_argument("--figure", help="plot both tips here (PNG)")
     a = parser.parse_args()
 
-    case, gate, material, times, reference, forces = read_loads(a.run)
-    x0, x1 = gate["shape"]["min"][0], gate["shape"]["max"][0]
-    clamp_y = gate["clamps"][0]["min"][1]
+    run = GateRun(a.run)
+    times, reference, forces = [], None, []
+    for time, X, _, force, _ in run.snapshots():
+        times.append(time)
+        forces.append(force)
+        reference = X
+    times, forces = np.array(times), np.array(forces)
+    case, material, x0, x1, clamp_y = run.case, run.material, run.x0, run.x1, run.clamp_y
     # The beam's axis runs from the clamp down to the free end; its y across the gate from the upstream
     # face: X = clamp_y - y, Y = x - x0, a rotation by 90 degrees, so that a force (f_x, f_y) is (-f_y, f_x).
     beam = Beam(clamp_y, x1 - x0, material["youngs_modulus"], material["poisson_ratio"], material.get("plane", "strain"),
                 density=material["density"], probe_x=clamp_y)
     solid = Q9Solid(beam, *a.elements)
-    free_part = reference[:, 1] < clamp_y
-    points = np.stack([clamp_y - reference[free_part, 1], reference[free_part, 0] - x0], 1)
+    points = np.stack([clamp_y - reference[:, 1], reference[:, 0] - x0], 1)
     P = solid.point_loads(points)
-    beam_forces = np.stack([-forces[:, free_part, 1], forces[:, free_part, 0]], 2).reshape(len(times), -1)
+    beam_forces = np.stack([-forces[:, :, 1], forces[:, :, 0]], 2).reshape(len(times), -1)
     M = solid.mass()
     gravity = np.tile([-case["gravity"][1], case["gravity"][0]], solid.n_nodes)
     weight = M @ gravity
@@ -114,7 +97,7 @@ def main():
         print(f"{name:>16}: peak u_x {1e3 * ux[peak]:.2f} mm at {times[peak]:.3f} s, minimum after it "
               f"{1e3 * ux[low]:.2f} mm at {times[low]:.3f} s, u_x at 0.20 s {1e3 * np.interp(0.2, times, ux):.2f} mm, "
               f"largest u_y {1e3 * uy.max():.2f} mm")
-    print(f"{len(times)} snapshots, {free_part.sum()} loaded particles, Q9 {a.elements[0]} x {a.elements[1]}")
+    print(f"{len(times)} snapshots, {len(reference)} loaded particles, Q9 {a.elements[0]} x {a.elements[1]}")
     summary("finite elements", fe_ux, fe_uy)
     summary("the run", run_ux, run_uy)
     print(f"RMS difference: u_x {1e3 * np.sqrt(np.mean((fe_ux - run_ux)**2)):.2f} mm, "

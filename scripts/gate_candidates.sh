@@ -21,20 +21,16 @@ coupled() {  # coupled NAME [--set ...]
   [ -f "$OUT/$name/summary.json" ] || "$ISPH" run cases/elastic_gate.toml --quiet --threads 2 \
     --set output.snapshots=false --out "$OUT/$name" "$@" || echo "$name stopped"
 }
-# A coupled run with snapshots every 5 ms, for the water's load (scripts/gate_load.py).
-loaded() {  # loaded NAME [--set ...]
-  local name=$1; shift
-  [ -f "$OUT/$name/summary.json" ] || "$ISPH" run cases/elastic_gate.toml --quiet --threads 2 \
-    --set output.snapshot_interval=0.005 --out "$OUT/$name" "$@" || echo "$name stopped"
-}
+# Snapshots every 5 ms (a later --set wins), for the water's load (scripts/gate_load.py).
+SNAPSHOTS=(--set output.snapshots=true --set output.snapshot_interval=0.005)
 coupled shipped
 coupled hourglass_2.5 --set structure.hourglass=2.5
 coupled hourglass_10 --set structure.hourglass=10
 coupled cell --set 'structure.quadrature="cell"'
 coupled quadratic --set 'structure.gradient="quadratic"' --set structure.hourglass=1
 coupled gate_fine --set bodies.gate.refinement=4
-loaded water_uniform --set dx=0.00125 --set bodies.gate.refinement=1
-loaded water_0.625 --set dx=0.000625 --set bodies.gate.refinement=1   # about 35 minutes
+coupled water_uniform --set dx=0.00125 --set bodies.gate.refinement=1 "${SNAPSHOTS[@]}"
+coupled water_0.625 --set dx=0.000625 --set bodies.gate.refinement=1 "${SNAPSHOTS[@]}"   # about 35 minutes
 # The finer water with the interface iterated to 1e-2 (the shipped two end far from converged there):
 CONVERGED=(--set coupling.max_iterations=30 --set coupling.first_ppe_tolerance=0 --set coupling.tolerance=0.01)
 coupled water_uniform_converged --set dx=0.00125 --set bodies.gate.refinement=1 "${CONVERGED[@]}"   # 3 minutes
@@ -95,10 +91,9 @@ for q in 500 1000; do
 done
 
 # 3. The finite-element gate under the coupled run's own load: the run as shipped with snapshots every
-#    0.5 ms (about 40 s on 1 core, 1 GB of snapshots), then scripts/fe_gate_history.py on them.
+#    0.5 ms (about 40 s, 1 GB of snapshots), then scripts/fe_gate_history.py on them.
+coupled shipped_load --set output.snapshots=true --set output.snapshot_interval=0.0005
 load_run="$OUT/shipped_load"
-[ -f "$load_run/summary.json" ] || "$ISPH" run cases/elastic_gate.toml --quiet --threads 1 \
-  --set output.snapshot_interval=0.0005 --out "$load_run"
 for mesh in "20 2" "40 4"; do
   fe="$OUT/fe_gate_history_${mesh// /x}"
   [ -f "$fe.csv" ] || $PY scripts/fe_gate_history.py "$load_run" --elements $mesh --csv "$fe.csv" --figure "$fe.png" | tee "$fe.txt"

@@ -19,34 +19,51 @@ import numpy as np
 FLUID, STRUCTURE = 0, 2
 
 
+class GateRun:
+    """A run of cases/elastic_gate.toml with snapshots: its case, and what each snapshot says of the gate's
+    free part (below the clamp) and of the water."""
+
+    def __init__(self, run):
+        self.run = run
+        self.case = tomllib.load(open(f"{run}/case.resolved.toml", "rb"))
+        self.gate = next(b for b in self.case["bodies"] if b["kind"] == "structure")
+        self.water = next(b for b in self.case["bodies"] if b["kind"] == "fluid")
+        self.material = next(m for m in self.case["materials"] if m["name"] == self.gate["material"])
+        self.dx = self.case["dx"]
+        self.gate_dx = self.dx / self.gate.get("refinement", 1)
+        self.x0, self.x1 = self.gate["shape"]["min"][0], self.gate["shape"]["max"][0]
+        self.clamp_y = self.gate["clamps"][0]["min"][1]
+
+    def snapshots(self):
+        """Per snapshot: its time, the free gate particles' reference and current positions (x, y) and the
+        water's force on each (m times the interaction acceleration, per metre of depth), all in the order of
+        their ids, and the water particles' positions."""
+        mass = self.material["density"] * self.gate_dx**2
+        reference = None
+        for path in sorted(glob.glob(f"{self.run}/snapshots/snapshot_*.h5")):
+            with h5py.File(path) as f:
+                kind, x = f["kind"][:], f["position"][:, :2]
+                structure = np.flatnonzero(kind == STRUCTURE)
+                structure = structure[np.argsort(f["id"][:][structure])]
+                if reference is None:   # the first snapshot is the initial state
+                    reference = x[structure]
+                    free = reference[:, 1] < self.clamp_y
+                force = mass * f["structure_interaction"][:, :2][structure]
+                yield f.attrs["time"], reference[free], x[structure][free], force[free], x[kind == FLUID]
+
+
 def history(run):
     """{quantity: array over the snapshots} of one run of cases/elastic_gate.toml."""
-    case = tomllib.load(open(f"{run}/case.resolved.toml", "rb"))
-    gate = next(b for b in case["bodies"] if b["kind"] == "structure")
-    water = next(b for b in case["bodies"] if b["kind"] == "fluid")
-    material = next(m for m in case["materials"] if m["name"] == gate["material"])
-    dx, gate_dx = case["dx"], case["dx"] / gate.get("refinement", 1)
-    x0, x1 = gate["shape"]["min"][0], gate["shape"]["max"][0]
-    clamp_y = gate["clamps"][0]["min"][1]
-    level_x = 0.5 * (water["shape"]["min"][0] + x0)
+    g = GateRun(run)
+    level_x = 0.5 * (g.water["shape"]["min"][0] + g.x0)
     out = {k: [] for k in ("time", "force", "force_downstream_half", "level", "passed")}
-    reference = None
-    for path in sorted(glob.glob(f"{run}/snapshots/snapshot_*.h5")):
-        with h5py.File(path) as f:
-            kind, ids, x = f["kind"][:], f["id"][:], f["position"][:]
-            structure = kind == STRUCTURE
-            if reference is None:   # the first snapshot is the initial state: ids -> reference positions
-                reference = dict(zip(ids[structure], x[structure, :2]))
-            X = np.array([reference[i] for i in ids[structure]])
-            free = X[:, 1] < clamp_y
-            force = material["density"] * gate_dx**2 * f["structure_interaction"][:][structure][free, 0]
-            fluid = x[kind == FLUID]
-            column = fluid[np.abs(fluid[:, 0] - level_x) < dx]
-            out["time"].append(f.attrs["time"])
-            out["force"].append(force.sum())
-            out["force_downstream_half"].append(force[X[free, 0] > 0.5 * (x0 + x1)].sum())
-            out["level"].append(column[:, 1].max() + dx / 2 if len(column) else 0.0)
-            out["passed"].append(dx**2 * np.count_nonzero(fluid[:, 0] > x[structure][free, 0].max()))
+    for time, X, x, force, fluid in g.snapshots():
+        column = fluid[np.abs(fluid[:, 0] - level_x) < g.dx]
+        out["time"].append(time)
+        out["force"].append(force[:, 0].sum())
+        out["force_downstream_half"].append(force[X[:, 0] > 0.5 * (g.x0 + g.x1), 0].sum())
+        out["level"].append(column[:, 1].max() + g.dx / 2 if len(column) else 0.0)
+        out["passed"].append(g.dx**2 * np.count_nonzero(fluid[:, 0] > x[:, 0].max()))
     return {k: np.array(v) for k, v in out.items()}
 
 

@@ -326,7 +326,7 @@ JsonObject StructureCoupling<D>::summary() const {
       .set("mean_interface_iterations", steps_ > 0 ? double(iterations_) / steps_ : 0.0)
       .set("max_interface_iterations", max_iterations_seen_)
       .set("unconverged_steps", unconverged_)
-      .set("mean_interface_residual", steps_ > 0 ? residual_sum_ / steps_ : 0.0)
+      .set("mean_interface_residual", mean_residual())
       .set("max_interface_residual", max_residual_)
       .set("mean_force_on_structure", mean_force)
       .set("interaction_work", interaction_work_)
@@ -340,7 +340,7 @@ JsonObject StructureCoupling<D>::summary() const {
 
 template <int D>
 std::string StructureCoupling<D>::convergence_warning() const {
-  const Real mean = steps_ > 0 ? residual_sum_ / steps_ : 0.0;
+  const Real mean = mean_residual();
   if (mean <= 1.0) return {};
   char buf[400];
   std::snprintf(buf, sizeof buf,

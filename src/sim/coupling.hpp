@@ -136,6 +136,8 @@ class StructureCoupling {
   void set_obstacles(const ParticleSet<D>& fluid);
   // The deepest structure-wall overlap at the step's end, for summary().
   void record_overlap();
+  // The interface residual at the steps' ends, averaged over the steps (0 before the first).
+  Real mean_residual() const { return steps_ > 0 ? residual_sum_ / steps_ : 0.0; }
   // The step's totals for summary(): interaction work, force, substeps, interface iterations.
   void account_step(Real work, const Vec<D>& force, int count, int iterations);
   // The quasi-Newton columns of a snapshot (row: the snapshot's row of each stable id).
