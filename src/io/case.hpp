@@ -74,14 +74,15 @@ constexpr EnumName<LoadType> kLoadTypeNames[] = {
     {LoadType::edge, "edge"}, {LoadType::traction, "traction"}, {LoadType::point, "point"}, {LoadType::body, "body"}};
 constexpr std::span<const EnumName<LoadType>> enum_names(LoadType) { return kLoadTypeNames; }
 
-enum class ProbeType { displacement, structure_pressure, pressure, velocity, front, max_speed, water_level };
+enum class ProbeType { displacement, structure_pressure, pressure, velocity, front, max_speed, water_level, force };
 constexpr EnumName<ProbeType> kProbeTypeNames[] = {{ProbeType::displacement, "displacement"},
                                                    {ProbeType::structure_pressure, "structure_pressure"},
                                                    {ProbeType::pressure, "pressure"},
                                                    {ProbeType::velocity, "velocity"},
                                                    {ProbeType::front, "front"},
                                                    {ProbeType::max_speed, "max_speed"},
-                                                   {ProbeType::water_level, "water_level"}};
+                                                   {ProbeType::water_level, "water_level"},
+                                                   {ProbeType::force, "force"}};
 constexpr std::span<const EnumName<ProbeType>> enum_names(ProbeType) { return kProbeTypeNames; }
 
 // A geometric primitive. In 2D: "rectangle" (min, max), "circle" (center, radius) or "wedge". In 3D:
@@ -230,10 +231,14 @@ struct LoadSpec {
 //  "max_speed":    the speed of the fastest fluid particle (field u); no point.
 //  "water_level":  the height of the water surface on the vertical line through `point`, at or above
 //                  point's height (field h): a wave gauge.
+//  "force":        the fluid's pressure force on the wall or structure `body` (fields fx, fy[, fz];
+//                  per unit depth in 2D), the time mean over the fluid steps since the previous row;
+//                  no point.
 struct ProbeSpec {
   std::string name;
   ProbeType type = ProbeType::displacement;
   std::array<double, 3> point{};
+  std::string body;  // "force": the body the force acts on
   bool operator==(const ProbeSpec&) const = default;
 };
 

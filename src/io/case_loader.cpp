@@ -700,6 +700,15 @@ void check_lists(CaseSpec& c, Context& ctx) {
   }
   for (std::size_t i = 0; i < c.loads.size(); ++i)
     check_reference(c.loads[i].body, c.bodies, "body", index_path("loads", i) + ".body", ctx);
+  for (std::size_t i = 0; i < c.probes.size(); ++i) {
+    if (c.probes[i].type != ProbeType::force) continue;
+    const std::string path = index_path("probes", i) + ".body";
+    check_reference(c.probes[i].body, c.bodies, "body", path, ctx);
+    for (const auto& b : c.bodies)
+      if (b.name == c.probes[i].body && b.kind == ParticleKind::fluid)
+        ctx.problem(path,
+                    "a force probe needs a wall or structure body; " + toml_string(b.name) + " is of kind = \"fluid\"");
+  }
   check_stages(c, ctx);
 }
 

@@ -630,12 +630,19 @@ std::vector<ListKey<ProbeSpec>> declare_probes() {
   add(
       keys, "type", [](P & p) -> auto& { return p.type; })
       .doc(
-          R"(`"displacement"`, `"structure_pressure"`, `"pressure"`, `"velocity"`, `"front"`, `"max_speed"`, `"water_level"`: see below)");
+          R"(`"displacement"`, `"structure_pressure"`, `"pressure"`, `"velocity"`, `"front"`, `"max_speed"`, `"water_level"`, `"force"`: see below)");
   add(
       keys, "point", [](P & p) -> auto& { return p.point; })
       .unit("m")
-      .required_when([](const P& p) { return p.type != ProbeType::max_speed; }, R"(required (except "max_speed"))")
+      .required_when([](const P& p) { return p.type != ProbeType::max_speed && p.type != ProbeType::force; },
+                     R"(required (except "max_speed" and "force"))")
       .doc("see below");
+  add(
+      keys, "body", [](P & p) -> auto& { return p.body; })
+      .required_when([](const P& p) { return p.type == ProbeType::force; }, R"(required for "force")")
+      .only([](const P& p, int) { return p.type == ProbeType::force; }, "force",
+            [](const P& p, int) { return "only for type = \"force\" (" + is("type", p.type) + ")"; })
+      .doc("name of the wall or structure body the force acts on");
   return keys;
 }
 

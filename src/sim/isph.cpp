@@ -43,7 +43,8 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
       extrapolate_surface_(s.settings.surface_pressure == SurfacePressure::extrapolated),
       fsi_shifting_(s.fsi_shifting),
       fsi_shifting_law_(s.fsi_shifting_law),
-      pairwise_force_(s.interaction_force == InteractionForce::pairwise) {
+      pairwise_force_(s.interaction_force == InteractionForce::pairwise),
+      wall_force_(s.wall_force) {
   ParticleSet<D>& ps = particles_;
   for (auto* v : {&x_old_, &u_star_, &u_new_, &grad_p_, &surface_normal_, &shift_, &wall_moment_}) *v = ps.array(Vec<D>::zero());
   for (auto* v : {&L_, &Bhat_, &L_structure_}) *v = ps.array(Mat<D>::identity());
@@ -280,6 +281,8 @@ void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
       boundary_pressure_force(true, FluidKind::wall);
       particles_.wall_work += dt * particles_.moving_wall_power();
     });
+  else if (wall_force_)
+    timer.time("wall_force", [&] { boundary_pressure_force(true, FluidKind::wall); });
   particles_.time += dt;
 }
 

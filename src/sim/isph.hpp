@@ -107,6 +107,7 @@ class IsphSolver final : public FluidModel<D> {
   bool fsi_shifting_;
   FsiLayerLaw fsi_shifting_law_;
   bool pairwise_force_;
+  bool wall_force_;  // FluidSetup::wall_force
   std::unique_ptr<LinearSolver> solver_, fallback_;
   std::string solver_name_;
 };

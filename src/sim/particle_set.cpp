@@ -41,6 +41,7 @@ ParticleSet<D>::ParticleSet(FluidSetup<D>& s)
   const std::size_t n = s.x.size();
   if (s.structure_index.empty()) s.structure_index.assign(n, -1);
   if (s.motion.empty()) s.motion.assign(n, -1);
+  if (s.body.empty()) s.body.assign(n, -1);
   if (s.level.empty()) s.level.assign(n, static_cast<unsigned char>(s.fluid_level));
   const bool managed = exec_.device == Device::cuda;
   position = state_copy(s.x, managed);
@@ -55,6 +56,7 @@ ParticleSet<D>::ParticleSet(FluidSetup<D>& s)
   id = state_copy(s.id, managed);
   structure_index = state_copy(s.structure_index, managed);
   motion = state_copy(s.motion, managed);
+  body = state_copy(s.body, managed);
   reference_position = position;
   wall_acceleration = boundary_force = array(Vec<D>::zero());
   pressure = array(Real{0});
@@ -115,7 +117,7 @@ void ParticleSet<D>::reorder(const Index* order, Index count) {
                   &reference_position, &boundary_force})
     permute(*v, order, count);
   for (auto* v : {&pressure, &volume, &wall_depth}) permute(*v, order, count);
-  for (auto* v : {&id, &structure_index, &motion}) permute(*v, order, count);
+  for (auto* v : {&id, &structure_index, &motion, &body}) permute(*v, order, count);
   permute(kind, order, count);
   permute(level, order, count);
   for (const auto& follow : followers_) follow(order, count);
@@ -209,6 +211,17 @@ Vec<D> ParticleSet<D>::gather_structure_force(std::span<Vec<D>> force_density) c
   for (int d = 0; d < D; ++d)
     total[d] = ordered_sum(exec_, static_cast<Index>(structure_volume_.size()),
                            ForceComponent<D>{structure_volume_.data(), force_density.data(), d}, block_sums_);
+  return total;
+}
+
+// F_body = sum over the body's particles of V_a f_a, f_a the pressure force density on particle a.
+template <int D>
+Vec<D> ParticleSet<D>::body_force(Index body_index) const {
+  Vec<D> total;
+  for (int d = 0; d < D; ++d)
+    total[d] = ordered_sum(exec_, size(),
+                           BodyForceComponent<D>{body.data(), volume.data(), boundary_force.data(), body_index, d},
+                           block_sums_);
   return total;
 }
 

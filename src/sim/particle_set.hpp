@@ -55,6 +55,7 @@ struct FluidSetup {
   std::vector<Index> structure_index; // structure particles: index in the TLSPH solver; -1 for others
   std::vector<Index> id;              // stable id (output order)
   std::vector<Index> motion;          // walls: index in `motions`; -1 for fixed walls and the others
+  std::vector<Index> body;            // index in the case's bodies (-1: a set built by hand)
   std::vector<RigidMotion<D>> motions;  // prescribed motions of wall bodies
   Real density = 0;
   Real viscosity = 0;                 // kinematic [m^2/s]
@@ -71,6 +72,7 @@ struct FluidSetup {
   FsiLayerLaw fsi_shifting_law = FsiLayerLaw::literal;
   InteractionForce interaction_force =
       InteractionForce::pairwise;  // pairwise | gradient (Eq. 48 literally; structure/interaction.hpp)
+  bool wall_force = false;         // the walls' pressure force after every step (force probes), moving or not
 
   const SmoothingKernel<D>& fluid_kernel() const { return kernels.kernel[fluid_level]; }
 };
@@ -137,6 +139,7 @@ class ParticleSet {
   StateVector<Vec<D>> wall_velocity, wall_acceleration, wall_normal, reference_normal;
   StateVector<Real> wall_depth;
   StateVector<Index> id, structure_index, motion;  // stable id; TLSPH index (-1: not a structure particle); motion (-1: none)
+  StateVector<Index> body;                         // index in the case's bodies (FluidSetup::body)
   StateVector<Vec<D>> reference_position;    // initial positions (moving walls follow their motion from them)
   StateVector<Vec<D>> boundary_force;        // pressure force per unit volume on wall and structure particles
   Real time = 0;
@@ -194,6 +197,8 @@ class ParticleSet {
   // From boundary_force (filled by the model): the force density on the structure particles indexed as
   // in TLSPH, and its sum.
   Vec<D> gather_structure_force(std::span<Vec<D>> force_density) const;
+  // From boundary_force (filled by the model): the pressure force on the particles of one body.
+  Vec<D> body_force(Index body_index) const;
   // The power of the moving walls on the fluid: their pressure's (from boundary_force) and their
   // viscous traction's (the last record_viscous_wall_power).
   Real moving_wall_power() const;

@@ -38,6 +38,7 @@ extern "C" void on_stop_signal(int signal) {
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 const char* const kComponents[3] = {"ux", "uy", "uz"};
+const char* const kForceComponents[3] = {"fx", "fy", "fz"};
 
 template <int D>
 std::array<double, 3> to_array(const Vec<D>& v) {
@@ -551,6 +552,56 @@ void write_fluid_snapshot(SnapshotWriter& writer, double t, const FluidModel<D>&
   writer.write(t, pos, fields, restart_state);
 }
 
+// The force probes: each row holds the time mean of the body's force over the fluid steps since the
+// previous row, sum(F dt) / sum(dt) (the instantaneous force swings from step to step). The sums go
+// into the snapshots, so that a restart writes the rows the uninterrupted run would.
+template <int D>
+class ForceProbes {
+ public:
+  explicit ForceProbes(std::vector<ForceProbe> probes) : probes_(std::move(probes)), impulse_(probes_.size()) {}
+  void add_columns(std::vector<std::string>& columns) const {
+    for (const auto& p : probes_)
+      for (int d = 0; d < D; ++d) columns.push_back(p.name + "." + kForceComponents[d]);
+  }
+  void add_step(const ParticleSet<D>& particles, Real dt) {
+    if (probes_.empty()) return;
+    for (std::size_t i = 0; i < probes_.size(); ++i) impulse_[i] += dt * particles.body_force(probes_[i].body);
+    window_ += dt;
+  }
+  // The means since the previous row (NaN in the first row, before any step), and a new window.
+  void add_values(std::vector<double>& row) {
+    for (auto& impulse : impulse_) {
+      for (int d = 0; d < D; ++d) row.push_back(window_ > 0 ? impulse[d] / window_ : std::nan(""));
+      impulse = Vec<D>::zero();
+    }
+    window_ = 0;
+  }
+  void add_attributes(SnapshotAttributes& attributes) const {
+    if (probes_.empty()) return;
+    attributes.emplace_back("force_probe_window", window_);
+    for (std::size_t i = 0; i < probes_.size(); ++i)
+      for (int d = 0; d < D; ++d) attributes.emplace_back(key(i, d), impulse_[i][d]);
+  }
+  // A snapshot without the sums (written before force probes were asked for) starts a new window.
+  void restore(const SnapshotData& state) {
+    const auto& a = state.attributes;
+    const auto window = a.find("force_probe_window");
+    if (probes_.empty() || window == a.end()) return;
+    window_ = window->second;
+    for (std::size_t i = 0; i < probes_.size(); ++i)
+      for (int d = 0; d < D; ++d)
+        if (const auto v = a.find(key(i, d)); v != a.end()) impulse_[i][d] = v->second;
+  }
+
+ private:
+  std::string key(std::size_t i, int d) const {
+    return "force_probe_impulse." + probes_[i].name + "." + kForceComponents[d];
+  }
+  std::vector<ForceProbe> probes_;
+  std::vector<Vec<D>> impulse_;  // sum of F dt over the window
+  Real window_ = 0;              // sum of dt
+};
+
 template <int D>
 RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene, PhaseTimer& timer) {
   std::vector<std::string> columns;
@@ -564,6 +615,8 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   }
   if (scene.has_structure) add_displacement_columns(scene, columns);
   for (const auto& p : scene.pressure_probes) columns.push_back(p.name + ".p");
+  ForceProbes<D> forces(scene.force_probes);
+  forces.add_columns(columns);
   RunFrame frame(spec, opt, columns, D);
   frame.set_books_advice(spec.fluid.model == FluidMethod::wcsph
                              ? "try a smaller fluid.courant (or structure.courant with a structure)"
@@ -620,6 +673,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
         sk = s.kinetic_energy(), sp = s.potential_energy();
         ss = s.strain_energy() + s.obstacle_contact().energy;  // the wall contact's penalty stores strain energy too
       }
+      forces.add_values(row);
       frame.probes.add_row(row);
       // energy the moving walls gave the fluid, and the moving clamps the structure
       const Real ww = particles.wall_work + (coupling ? coupling->solver().clamp_work() : 0);
@@ -628,7 +682,9 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   };
   auto snapshot = [&](Real t) {
     timer.time("output", [&] {
-      write_fluid_snapshot(frame.snapshots, t, model, coupling.get(), frame.books_attributes());
+      SnapshotAttributes attributes = frame.books_attributes();
+      forces.add_attributes(attributes);
+      write_fluid_snapshot(frame.snapshots, t, model, coupling.get(), attributes);
       frame.flush();
     });
   };
@@ -644,6 +700,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
       model.restore_fields(state);
       const bool complete = coupling ? coupling->restore(state, particles) : true;
       frame.continue_books(state);
+      forces.restore(state);
       t = state.time;
       frame.start_at(t, opt.restart, complete);
       if (opt.progress)
@@ -678,6 +735,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
     }
     ++step;
     t += dt;
+    timer.time("output", [&] { forces.add_step(particles, dt); });
     if (particles.wall_count() > 0)
       timer.time("contact", [&] { wall_contact.add(particles.contact(FluidKind::wall), t); });
     solves += report.ppe_solves;

@@ -169,6 +169,7 @@ void add_fluid_body(const CaseSpec& spec, std::size_t bi, const std::vector<Vec<
   const bool moves = !is_fluid && body.motion.type != MotionType::none;
   if (moves) f.motions.emplace_back(body.motion);
   f.motion.resize(f.x.size(), -1);
+  f.body.insert(f.body.end(), points.size(), static_cast<Index>(bi));
   for (const auto& p : points) {
     const Vec<D> wall_velocity = moves ? f.motions.back().velocity(p, 0) : Vec<D>::zero();
     f.id.push_back(static_cast<Index>(f.x.size()));
@@ -187,7 +188,7 @@ void add_fluid_body(const CaseSpec& spec, std::size_t bi, const std::vector<Vec<
 // boundary (coupled cases).
 template <int D>
 void add_structure_particle(const Vec<D>& x, const Vec<D>& v, Index structure_index, Real volume, int level,
-                            FluidSetup<D>& f) {
+                            std::size_t body, FluidSetup<D>& f) {
   f.structure_index.resize(f.x.size(), -1);
   f.id.push_back(static_cast<Index>(f.x.size()));
   f.x.push_back(x);
@@ -197,6 +198,7 @@ void add_structure_particle(const Vec<D>& x, const Vec<D>& v, Index structure_in
   f.level.push_back(static_cast<unsigned char>(level));
   f.wall_velocity.push_back(v);
   f.structure_index.push_back(structure_index);
+  f.body.push_back(static_cast<Index>(body));
   f.motion.resize(f.x.size(), -1);
 }
 
@@ -622,6 +624,17 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const
   for (std::size_t pi = 0; pi < spec.probes.size(); ++pi) {
     const ProbeSpec& p = spec.probes[pi];
     if (p.type == ProbeType::displacement || p.type == ProbeType::structure_pressure) continue;
+    if (p.type == ProbeType::force) {
+      const auto body =
+          std::find_if(spec.bodies.begin(), spec.bodies.end(), [&](const BodySpec& b) { return b.name == p.body; });
+      if (body == spec.bodies.end() || body->kind == ParticleKind::fluid)
+        problems.push_back(file + ": probes[" + std::to_string(pi) + "].body: force probe '" + p.name +
+                           "' names no wall or structure body");
+      else
+        scene.force_probes.push_back({p.name, static_cast<Index>(body - spec.bodies.begin())});
+      f.wall_force = f.wall_force || (body != spec.bodies.end() && body->kind == ParticleKind::wall);
+      continue;
+    }
     const Vec<D> point = to_vec<D>(p.point);
     if (p.type == ProbeType::pressure || p.type == ProbeType::velocity) {
       Real nearest = std::numeric_limits<Real>::max();
@@ -718,7 +731,7 @@ Scene<D> build_scene(const CaseSpec& spec) {
       s.fixed.push_back(fixed);
       s.motion.push_back(fixed ? clamp_motion : -1);
       if (spec.stages.fluid)
-        add_structure_particle<D>(p, s.v.back(), static_cast<Index>(s.X.size()) - 1, volume, level, fluid);
+        add_structure_particle<D>(p, s.v.back(), static_cast<Index>(s.X.size()) - 1, volume, level, bi, fluid);
     }
     for (std::size_t c = 0; c < body.clamps.size(); ++c)
       if (clamp_count[c] == 0)

@@ -31,6 +31,12 @@ struct FluidProbe {
   Vec<D> point;
 };
 
+// The fluid's pressure force on a wall or structure body (io/case.hpp ProbeSpec "force").
+struct ForceProbe {
+  std::string name;
+  Index body;  // index in the case's bodies
+};
+
 template <int D>
 struct Scene {
   bool has_structure = false;        // the stages the case runs
@@ -44,6 +50,7 @@ struct Scene {
   std::vector<DisplacementProbe<D>> probes;
   std::vector<StructurePressureProbe> pressure_probes;
   std::vector<FluidProbe<D>> fluid_probes;
+  std::vector<ForceProbe> force_probes;
   Real body_extent = 0;              // largest body size, for the divergence test
   Vec<D> domain_lo, domain_hi;       // fluid: a particle leaving this box has escaped
   Vec<D> up = Vec<D>::zero();        // against gravity (unit; zero without gravity)

@@ -71,6 +71,16 @@ TEST(HydrostaticTank, CoarseStillWater) {
   for (std::size_t k = 0; k < p["time"].size(); ++k)
     if (p["time"][k] >= 1.0) fastest = std::max(fastest, p["fastest.u"][k]);
   EXPECT_LT(fastest, 0.01 * std::sqrt(9.81 * 1.0));
+  // The force probes (1 m wide, H = 1 m). The floor carries rho g H W times 0.99079, the pairwise force's
+  // sum over the lattice against the continuum's (cubic spline at h = 1.2 dx, docs/VALIDATION.md section
+  // 33): measured 2026-12-06 -9719.68 N/m, 0.99080 of it. The side walls, mirror images: -/+4757.31 N/m,
+  // 0.96989 of rho g H^2 / 2.
+  EXPECT_NEAR(mean_over(p["time"], p["floor_force.fy"], 1.0) / -rho_g_h, 0.99079, 0.0005);
+  EXPECT_NEAR(mean_over(p["time"], p["floor_force.fx"], 1.0), 0.0, 1e-6 * rho_g_h);
+  const double left = mean_over(p["time"], p["left_force.fx"], 1.0);
+  EXPECT_NEAR(left / (-0.5 * rho_g_h), 0.96989, 0.003);
+  EXPECT_NEAR(mean_over(p["time"], p["right_force.fx"], 1.0), -left, 1e-6 * rho_g_h);
+  EXPECT_TRUE(std::isnan(p["floor_force.fy"][0]));  // the row at t = 0 precedes every step
 }
 
 // The 3D tank as shipped (cases/hydrostatic_tank_3d.toml, H/dx = 20), to 0.6 s: the first 3D scene.
@@ -95,6 +105,12 @@ TEST(HydrostaticTank, ThreeDimensionalStillWater) {
   for (std::size_t k = 0; k < p["time"].size(); ++k)
     if (p["time"][k] >= 0.25) fastest = std::max(fastest, p["fastest.u"][k]);
   EXPECT_LT(fastest, 0.01 * std::sqrt(9.81 * 1.0));
+  // The force probes (0.5 m x 0.5 m floor). The floor carries rho g H A times 0.98169, the 3D lattice sum
+  // of the pairwise force (docs/VALIDATION.md section 33): measured 2026-12-06 -2407.53 N, 0.98166 of it.
+  // The side wall x = 0: -2357.47 N, 0.96125 of rho g H^2 W / 2.
+  const double area_load = rho_g_h * 0.25;
+  EXPECT_NEAR(mean_over(p["time"], p["floor_force.fz"], 0.25) / -area_load, 0.98169, 0.0005);
+  EXPECT_NEAR(mean_over(p["time"], p["side_force.fx"], 0.25) / -area_load, 0.96125, 0.003);
 }
 
 // The weakly compressible comparator (fluid.model = "wcsph") in the same tank, with its own tolerances:
@@ -115,6 +131,12 @@ TEST(HydrostaticTank, WeaklyCompressibleStillWater) {
   const double mean = mean_over(p["time"], p["bottom.p"], 1.0, &sd);
   EXPECT_NEAR(mean, 1000 * 9.81 * (1.0 - 0.001), 0.02 * rho_g_h);
   EXPECT_LT(sd, 0.01 * rho_g_h);
+  // Its floor carries 1.0015 of rho g H W (measured 2026-12-06, -9824.3 N/m; its Riemann-solver wall force
+  // has its own lattice sum), its side walls -/+4823.7 N/m, 0.9834 of rho g H^2 / 2.
+  EXPECT_NEAR(mean_over(p["time"], p["floor_force.fy"], 1.0) / -rho_g_h, 1.0015, 0.003);
+  const double left = mean_over(p["time"], p["left_force.fx"], 1.0);
+  EXPECT_NEAR(left / (-0.5 * rho_g_h), 0.9834, 0.003);
+  EXPECT_NEAR(mean_over(p["time"], p["right_force.fx"], 1.0), -left, 1e-6 * rho_g_h);
   double fastest = 0;
   for (std::size_t k = 0; k < p["time"].size(); ++k)
     if (p["time"][k] >= 1.0) fastest = std::max(fastest, p["fastest.u"][k]);

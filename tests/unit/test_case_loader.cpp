@@ -454,6 +454,28 @@ point = [0.5, 0.2]
   EXPECT_TRUE(reports(p, path + ": probes[1].type: \"structure_pressure\" probes need stages.fluid = true"));
 }
 
+// A force probe names a wall or structure body and takes no point; the key is for force probes only.
+TEST_F(CaseLoaderTest, ForceProbeNamesAWallOrStructureBody) {
+  const auto path = write("forces.toml", kDamBreak + R"(
+[[probes]]
+name = "on_floor"
+type = "force"
+body = "floor"
+)");
+  EXPECT_TRUE(problems(path).empty());
+  EXPECT_EQ(load_case(path).probes[2].body, "floor");
+  const auto p = problems(path, {"probes.on_floor.body=\"water\""});
+  EXPECT_TRUE(reports(p, path + ": probes[2].body: a force probe needs a wall or structure body; \"water\" is of "
+                                "kind = \"fluid\""));
+  EXPECT_EQ(p.size(), 1u);
+  EXPECT_TRUE(
+      reports(problems(path, {"probes.on_floor.body=\"roof\""}),
+              path + ": probes[2].body: no body named \"roof\" (known: \"water\", \"floor\", \"left\", \"right\")"));
+  const auto pressure = problems(path, {"probes.on_floor.type=\"pressure\""});
+  EXPECT_TRUE(reports(pressure, path + ": probes[2].point: missing required key"));
+  EXPECT_TRUE(reports(pressure, path + ": probes[2].body: only for type = \"force\" (type = \"pressure\")"));
+}
+
 TEST_F(CaseLoaderTest, EmptyBoxIsAnError) {
   std::string text = kBeam;
   text.replace(text.find("max = [1, 0.1]"), 14, "max = [1, 0]");

@@ -63,6 +63,7 @@ std::string kind_of(const std::string& reason) {
       {"hi must be", "out of range"},
       {"no material named", "reference to a missing element"},
       {"no body named", "reference to a missing element"},
+      {"a force probe needs", "force probe on a fluid body"},
       {"duplicate name", "duplicate name"},
       {"has model", "material of the wrong model"},
       {"stages", "stages and bodies disagree"},

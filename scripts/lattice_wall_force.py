@@ -1,0 +1,61 @@
+#!/usr/bin/python3
+"""The pairwise pressure force of a fluid on a flat wall, summed over the particle lattice, against the
+continuum's (docs/VALIDATION.md section 33).
+
+The force density on a wall particle a is f_a = -sum_b V_b (p_a + p_b) grad_a W_ab over the fluid
+particles b (structure/interaction.hpp, BoundaryPressureForce). Under a uniform pressure P the force on
+the wall, per unit area, is then P times
+
+    2 / dx^(D-1) * sum over a in one column of wall particles, b in the fluid, of V_a V_b (-dW_ab/dn),
+
+which is 1 for the continuum (the double integral of the kernel gradient over the two half-spaces is
+1/2) and a constant of the kernel and h/dx on a lattice: it does not change with dx. A linear pressure
+adds nothing in the continuum (its part is odd about the wall). Particles sit on cell centres, the wall's
+rows at -dx/2, -3dx/2, ..., the fluid's at dx/2, 3dx/2, ...
+
+    /usr/bin/python3 scripts/lattice_wall_force.py [--h-factors 1.0 1.2 1.5]
+"""
+import argparse
+import itertools
+import math
+
+
+def cubic_spline_derivative(r, h, dimension):
+    """dW/dr of the cubic B-spline with support 2h (Monaghan 1992)."""
+    sigma = 10 / (7 * math.pi * h**2) if dimension == 2 else 1 / (math.pi * h**3)
+    q = r / h
+    if q < 1:
+        return sigma * (-3 * q + 2.25 * q * q) / h
+    if q < 2:
+        return -sigma * 0.75 * (2 - q) ** 2 / h
+    return 0.0
+
+
+def lattice_factor(h_factor, dimension, dx=1.0):
+    h = h_factor * dx
+    layers = math.ceil(2 * h_factor) + 1   # rows within the support on either side
+    volume = dx**dimension
+    total = 0.0
+    for i in range(layers):                # the wall column's particles a, at (0, ..., -(i + 1/2) dx)
+        ya = -(i + 0.5) * dx
+        for j in range(layers):            # the fluid's rows b, at ((k...) dx, (j + 1/2) dx)
+            yb = (j + 0.5) * dx
+            for k in itertools.product(range(-layers, layers + 1), repeat=dimension - 1):
+                r = math.sqrt(sum((kk * dx) ** 2 for kk in k) + (yb - ya) ** 2)
+                # the normal component (into the fluid) of grad_a W_ab = dW/dr (r_a - r_b) / r
+                total += volume * volume * cubic_spline_derivative(r, h, dimension) * (ya - yb) / r
+    return 2 * total / dx ** (dimension - 1)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--h-factors", type=float, nargs="+", default=[1.0, 1.2, 1.3, 1.5, 2.0])
+    a = parser.parse_args()
+    print("| h / dx | 2D | 3D |")
+    print("|---|---|---|")
+    for hf in a.h_factors:
+        print(f"| {hf:g} | {lattice_factor(hf, 2):.5f} | {lattice_factor(hf, 3):.5f} |")
+
+
+if __name__ == "__main__":
+    main()
