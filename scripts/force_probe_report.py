@@ -14,11 +14,11 @@ import tomllib
 import h5py
 import numpy as np
 
+from gate_load import STRUCTURE, GateRun
 from lattice_wall_force import lattice_factor
 from report_common import read_probes
 
 RHO_G = 1000 * 9.81
-STRUCTURE = 2
 
 
 def tank_rows(runs):
@@ -44,11 +44,8 @@ def tank_rows(runs):
 def gate_check(run):
     """The gate's probe rows, and the largest difference between a row that holds one step and that step's
     force in the snapshots; with the snapshots' forces for the figure."""
-    case = tomllib.load(open(f"{run}/case.resolved.toml", "rb"))
-    gate = next(b for b in case["bodies"] if b["kind"] == "structure")
-    material = next(m for m in case["materials"] if m["name"] == gate["material"])
-    spacing = gate.get("dx", case["dx"] / gate.get("refinement", 1))
-    mass = material["density"] * spacing**2
+    gate = GateRun(run)
+    mass = gate.material["density"] * gate.gate_dx**2
     snapshot = {}
     for path in sorted(glob.glob(f"{run}/snapshots/snapshot_*.h5")):
         with h5py.File(path) as f:

@@ -58,13 +58,16 @@ struct InteractionAcceleration {
   ISPH_HD void operator()(Index a) const { alpha[a] = (1.0 / density[a]) * force_density[a]; }
 };
 
-// Component d of V_s f_s, whose sum over the structure's particles is the pressure force on it.
+// Component d of V_s f_s, whose sum over the structure's particles is the pressure force on it; with
+// `body`, only the particles of body `target` count (a force probe's body, ParticleSet::body_force).
 template <int D>
 struct ForceComponent {
   const Real* volume;
   const Vec<D>* force_density;
   int d;
-  ISPH_HD Real operator()(Index s) const { return volume[s] * force_density[s][d]; }
+  const Index* body = nullptr;
+  Index target = 0;
+  ISPH_HD Real operator()(Index s) const { return body && body[s] != target ? 0 : volume[s] * force_density[s][d]; }
 };
 
 // The structure's motion over a fluid step as the fluid sees it (sim/coupling.hpp): the chord velocity

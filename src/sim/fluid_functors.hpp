@@ -394,17 +394,6 @@ struct PrescribeWalls {
   }
 };
 
-// Component d of V_a f_a on the particles of one body (ParticleSet::body_force).
-template <int D>
-struct BodyForceComponent {
-  const Index* body;
-  const Real* volume;
-  const Vec<D>* boundary_force;
-  Index target;
-  int d;
-  ISPH_HD Real operator()(Index a) const { return body[a] == target ? volume[a] * boundary_force[a][d] : 0; }
-};
-
 // Power of a moving wall particle's pressure force on the fluid, -V_w f_w · u_w (0 for the others).
 template <int D>
 struct MovingWallPressurePower {

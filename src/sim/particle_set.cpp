@@ -207,21 +207,23 @@ void ParticleSet<D>::gather_walls(StateVector<Vec<D>>& point, StateVector<Real>&
 template <int D>
 Vec<D> ParticleSet<D>::gather_structure_force(std::span<Vec<D>> force_density) const {
   parallel_for(exec_, size(), ScatterToStructure<D>{structure_index.data(), boundary_force.data(), false, force_density.data()});
-  Vec<D> total;
-  for (int d = 0; d < D; ++d)
-    total[d] = ordered_sum(exec_, static_cast<Index>(structure_volume_.size()),
-                           ForceComponent<D>{structure_volume_.data(), force_density.data(), d}, block_sums_);
-  return total;
+  return summed(static_cast<Index>(structure_volume_.size()),
+                ForceComponent<D>{structure_volume_.data(), force_density.data(), 0});
 }
 
 // F_body = sum over the body's particles of V_a f_a, f_a the pressure force density on particle a.
 template <int D>
 Vec<D> ParticleSet<D>::body_force(Index body_index) const {
+  return summed(size(), ForceComponent<D>{volume.data(), boundary_force.data(), 0, body.data(), body_index});
+}
+
+template <int D>
+Vec<D> ParticleSet<D>::summed(Index n, ForceComponent<D> component) const {
   Vec<D> total;
-  for (int d = 0; d < D; ++d)
-    total[d] = ordered_sum(exec_, size(),
-                           BodyForceComponent<D>{body.data(), volume.data(), boundary_force.data(), body_index, d},
-                           block_sums_);
+  for (int d = 0; d < D; ++d) {
+    component.d = d;
+    total[d] = ordered_sum(exec_, n, component, block_sums_);
+  }
   return total;
 }
 

@@ -31,6 +31,8 @@ namespace isph {
 
 template <int D>
 struct ViscousAcceleration;  // sim/fluid_functors.hpp
+template <int D>
+struct ForceComponent;  // structure/interaction.hpp
 
 // One array follows a re-sort or a removal: out[k] = in[order[k]].
 template <class T>
@@ -251,6 +253,8 @@ class ParticleSet {
   void restore(const SnapshotData& snapshot);
 
  private:
+  // Each component of sum_a V_a f_a (`component` over the first n particles, its d set per component).
+  Vec<D> summed(Index n, ForceComponent<D> component) const;
   // The cell list and the neighbour list, after a re-sort by cell when `sort`.
   void build_neighbours(bool sort);
   // Reorders (or, from remove_fluid_outside and restore, shrinks) the state and the attached arrays:

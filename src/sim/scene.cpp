@@ -624,15 +624,11 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const
   for (std::size_t pi = 0; pi < spec.probes.size(); ++pi) {
     const ProbeSpec& p = spec.probes[pi];
     if (p.type == ProbeType::displacement || p.type == ProbeType::structure_pressure) continue;
-    if (p.type == ProbeType::force) {
+    if (p.type == ProbeType::force) {  // the loader checked that the body is a wall or a structure
       const auto body =
           std::find_if(spec.bodies.begin(), spec.bodies.end(), [&](const BodySpec& b) { return b.name == p.body; });
-      if (body == spec.bodies.end() || body->kind == ParticleKind::fluid)
-        problems.push_back(file + ": probes[" + std::to_string(pi) + "].body: force probe '" + p.name +
-                           "' names no wall or structure body");
-      else
-        scene.force_probes.push_back({p.name, static_cast<Index>(body - spec.bodies.begin())});
-      f.wall_force = f.wall_force || (body != spec.bodies.end() && body->kind == ParticleKind::wall);
+      scene.force_probes.push_back({p.name, static_cast<Index>(body - spec.bodies.begin())});
+      f.wall_force = f.wall_force || body->kind == ParticleKind::wall;
       continue;
     }
     const Vec<D> point = to_vec<D>(p.point);
