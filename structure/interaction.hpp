@@ -49,12 +49,12 @@ struct BoundaryPressureForce {
 };
 
 // alpha(f->s) = f_s / rho_s (Eq. 48) of each structure particle (TLSPH's indexing), from the pressure
-// force per unit volume.
-template <int D>
+// force per unit volume; with T = Mat<D>, the impedance rate Gamma_s = Z_s / rho_s the same way.
+template <int D, class T = Vec<D>>
 struct InteractionAcceleration {
-  const Vec<D>* force_density;
+  const T* force_density;
   const Real* density;
-  Vec<D>* alpha;
+  T* alpha;
   ISPH_HD void operator()(Index a) const { alpha[a] = (1.0 / density[a]) * force_density[a]; }
 };
 

@@ -255,14 +255,15 @@ void TlsphSolver<D>::step(Real t, Real dt) {
 }
 
 template <int D>
-Real TlsphSolver<D>::advance(Real t, Real dt, int count, InteractionRamp<D> ramp) {
-  if (ramp.from && interaction_.empty()) throw std::logic_error("TlsphSolver::advance: a ramp before any interaction field");
+Real TlsphSolver<D>::advance(Real t, Real dt, int count, InteractionSchedule<D> schedule) {
+  if (schedule.varies() && interaction_.empty())
+    throw std::logic_error("TlsphSolver::advance: a varying interaction before any interaction field");
   const Real h = dt / count;
   const bool queued = queues_steps();
   const Exec exec = queued ? graph_->exec() : waiting_exec();
   const bool with_power = !interaction_.empty();
-  // The power at the start (slot 2k) and the end (2k + 1) of step k. Under a held field a step starts
-  // with the power its predecessor ended with, so only the first start is evaluated.
+  // The power at the start (slot 2k) and the end (2k + 1) of step k. Under a field that does not vary a
+  // step starts with the power its predecessor ended with, so only the first start is evaluated.
   resize_for_overwrite(power_record_, 2 * static_cast<std::size_t>(count));
   Real* const clamp_slots = integrator_ == StructureIntegrator::rk4 ? clamp_record(count) : nullptr;
   const auto record_power = [&](int slot) {
@@ -270,10 +271,17 @@ Real TlsphSolver<D>::advance(Real t, Real dt, int count, InteractionRamp<D> ramp
       ordered_sum_into(exec, n_, interaction_power_term(), block_sums_, power_record_.data() + slot);
   };
   for (int k = 0; k < count; ++k) {
-    if (ramp.from)
-      parallel_for(exec, n_, SetInteraction<D>{ramp.from, ramp.to, (k + 0.5) / count, interaction_.data(),
-                                               verlet_started_ ? acc_.data() : nullptr});
-    if (ramp.from || k == 0) record_power(2 * k);
+    if (schedule.varies())
+      parallel_for(exec, n_,
+                   SetInteraction<D>{.from = schedule.from,
+                                     .to = schedule.to ? schedule.to : interaction_.data(),
+                                     .s = (k + 0.5) / count,
+                                     .impedance = schedule.impedance,
+                                     .reference_velocity = schedule.reference_velocity,
+                                     .v = v_.data(),
+                                     .interaction = interaction_.data(),
+                                     .acc = verlet_started_ ? acc_.data() : nullptr});
+    if (schedule.varies() || k == 0) record_power(2 * k);
     if (integrator_ == StructureIntegrator::rk4)
       step_rk4(exec, t + k * h, h, clamp_slots ? clamp_slots + 6 * k : nullptr);
     else
@@ -285,7 +293,7 @@ Real TlsphSolver<D>::advance(Real t, Real dt, int count, InteractionRamp<D> ramp
   Real work = 0;
   if (with_power)
     for (int k = 0; k < count; ++k) {
-      const Real start = ramp.from || k == 0 ? power_record_[2 * k] : power_record_[2 * k - 1];
+      const Real start = schedule.varies() || k == 0 ? power_record_[2 * k] : power_record_[2 * k - 1];
       work += 0.5 * h * (start + power_record_[2 * k + 1]);  // the trapezoidal rule
     }
   return work;
@@ -447,7 +455,14 @@ void TlsphSolver<D>::set_interaction(std::span<const Vec<D>> acc) {
   // Velocity-Verlet's next opening kick reuses acc_, evaluated with the old field: it is moved to the new
   // field exactly, without a new evaluation. Values in ordinary host memory are copied on the host.
   parallel_for(exec_reading(acc.data()), n_,
-               SetInteraction<D>{nullptr, acc.data(), 0, interaction_.data(), verlet_started_ ? acc_.data() : nullptr});
+               SetInteraction<D>{.from = nullptr,
+                                 .to = acc.data(),
+                                 .s = 0,
+                                 .impedance = nullptr,
+                                 .reference_velocity = nullptr,
+                                 .v = nullptr,
+                                 .interaction = interaction_.data(),
+                                 .acc = verlet_started_ ? acc_.data() : nullptr});
 }
 
 template <int D>

@@ -37,12 +37,20 @@ struct LoadField {
   Real factor(Real t) const { return ramp_time > 0 && t < ramp_time ? t / ramp_time : 1.0; }
 };
 
-// The interaction fields of the substeps of one fluid step, ramped: substep k of n applies
-// from + (k + 1/2)/n (to - from) (StructureCoupling's "interpolated" alpha). Null: the field set last.
+// The interaction fields of the substeps of one fluid step. Ramped: substep k of n applies
+// from + (k + 1/2)/n (to - from) (StructureCoupling's "interpolated" alpha); held: `to`, or without it
+// the field set last. With an impedance, each substep's field also answers the structure's velocity at
+// the substep's start: - Gamma_a (v_a - w_a), where Gamma_a is the rate at which the fluid's pressure
+// force on particle a changes with its velocity and w_a the velocity the force was evaluated with
+// (StructureCoupling::explicit_step says why).
 template <int D>
-struct InteractionRamp {
+struct InteractionSchedule {
   const Vec<D>* from = nullptr;
   const Vec<D>* to = nullptr;
+  const Mat<D>* impedance = nullptr;
+  const Vec<D>* reference_velocity = nullptr;
+  // The field differs from substep to substep.
+  bool varies() const { return from != nullptr || impedance != nullptr; }
 };
 
 template <int D>
@@ -89,11 +97,11 @@ class TlsphSolver {
   // Advances positions and velocities from t to t + dt with the chosen integrator. On the device it
   // returns when the step is done, so that the host may read the state.
   void step(Real t, Real dt);
-  // Runs `count` steps of dt / count from t under the interaction field set last, or the ramp's, and
+  // Runs `count` steps of dt / count from t under the interaction field set last, or the schedule's, and
   // returns the interaction's work over them: the trapezoidal rule on the power of each step's field at
   // the step's two ends (interaction_power()). On the device the steps and the powers are queued and the
   // host waits once, at the end (RK4 with no moving clamp).
-  Real advance(Real t, Real dt, int count, InteractionRamp<D> ramp = {});
+  Real advance(Real t, Real dt, int count, InteractionSchedule<D> schedule = {});
   // Recomputes F, P and the strain energy at the current state (for output).
   void update_stress();
   // The acceleration at the current state (time t) without the interaction field: the structure's own

@@ -448,18 +448,23 @@ struct GravityEnergyTerm {
   ISPH_HD Real operator()(Index a) const { return -mass[a] * dot(gravity, x[a] - X[a]); }
 };
 
-// The interaction field alpha(f->s) of a step (TlsphSolver::set_interaction, advance): to, or with from
-// given the ramp from + s (to - from). Velocity-Verlet's stored acceleration, where given, moves by the
-// field's change: the field is one additive term of it.
+// The interaction field alpha(f->s) of a step (TlsphSolver::set_interaction, advance; InteractionSchedule):
+// to, or with from the ramp from + s (to - from), and with an impedance minus Gamma_a (v_a - w_a).
+// Velocity-Verlet's stored acceleration, where given, moves by the field's change: the field is one
+// additive term of it.
 template <int D>
 struct SetInteraction {
   const Vec<D>* from;  // null: no ramp
   const Vec<D>* to;
   Real s;
+  const Mat<D>* impedance;  // null: none
+  const Vec<D>* reference_velocity;
+  const Vec<D>* v;
   Vec<D>* interaction;
   Vec<D>* acc;  // null: nothing stored
   ISPH_HD void operator()(Index a) const {
-    const Vec<D> value = from ? from[a] + s * (to[a] - from[a]) : to[a];
+    Vec<D> value = from ? from[a] + s * (to[a] - from[a]) : to[a];
+    if (impedance) value = value - impedance[a] * (v[a] - reference_velocity[a]);
     if (acc) acc[a] += value - interaction[a];
     interaction[a] = value;
   }

@@ -42,6 +42,7 @@ StructureCoupling<D>::StructureCoupling(TlsphSetup<D> setup, const CouplingSpec&
                   &x_old_, &v_new_, &last_interaction_})
     *v = StateVector<Vec<D>>(n, Vec<D>::zero(), vectors);
   v_mean_ = StateVector<Vec<D>>(solver_.velocity().begin(), solver_.velocity().end(), vectors);
+  impedance_ = StateVector<Mat<D>>(n, Mat<D>::zero(), StateAllocator<Mat<D>>(device == Device::cuda));
   wall_point_ = StateVector<Vec<D>>(vectors);
   wall_radius_ = StateVector<Real>(scalars);
   density_ = StateVector<Real>(n, 0.0, scalars);
@@ -54,12 +55,10 @@ StructureCoupling<D>::StructureCoupling(TlsphSetup<D> setup, const CouplingSpec&
 }
 
 template <int D>
-int StructureCoupling<D>::substep(Real t, Real dt, Real& work) {
+int StructureCoupling<D>::substep(Real t, Real dt, Real& work, InteractionSchedule<D> schedule) {
   const int count =
       spec_.substeps > 0 ? spec_.substeps : std::max(1, static_cast<int>(std::ceil(dt / stable_dt_ - 1e-9)));
-  const bool ramp = interpolate_ && has_last_interaction_;
-  work += solver_.advance(t, dt, count,
-                          ramp ? InteractionRamp<D>{last_interaction_.data(), interaction_.data()} : InteractionRamp<D>{});
+  work += solver_.advance(t, dt, count, schedule);
   return count;
 }
 
@@ -115,7 +114,10 @@ FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid
     timer.time("structure", [&] {
       if (iteration > 1) solver_.restore_state();
       work = 0;
-      count = substep(t, dt, work);
+      const bool ramp = interpolate_ && has_last_interaction_;
+      count = substep(t, dt, work,
+                      ramp ? InteractionSchedule<D>{.from = last_interaction_.data(), .to = interaction_.data()}
+                           : InteractionSchedule<D>{});
       parallel_for(exec_, n, ChordMotion<D>{solver_.position().data(), x_old_.data(), v_mean_.data(), 1.0 / dt,
                                             v_new_.data(), a_new_.data()});
       scale = along(a_new_, row_direction_).norm();
@@ -154,16 +156,21 @@ void StructureCoupling<D>::explicit_step(Real t, Real dt, WcsphSolver<D>& fluid,
   timer.time("interaction", [&] {
     force = fluid.structure_pressure_force(force_density_);
     set_interaction();
+    fluid.structure_impedance(impedance_);
+    parallel_for(exec_, n, InteractionAcceleration<D, Mat<D>>{impedance_.data(), density_.data(), impedance_.data()});
   });
   Real work = 0;
   int count = 0;
   timer.time("structure", [&] {
     set_obstacles(fluid.particles());
     parallel_for(exec_, n, CopyElements<Vec<D>>{solver_.position().data(), x_old_.data()});
-    count = substep(t, dt, work);
+    // The force's dissipative part answers the structure's velocity at each substep (explained above).
+    count = substep(t, dt, work,
+                    {.to = interaction_.data(), .impedance = impedance_.data(), .reference_velocity = v_mean_.data()});
     solver_.update_stress();
     parallel_for(exec_, n, ChordMotion<D>{solver_.position().data(), x_old_.data(), nullptr, 1.0 / dt, v_new_.data(), nullptr});
     fluid.particles().move_structure(solver_.position(), v_new_, solver_.deformation_gradient());
+    v_mean_.swap(v_new_);  // the velocity the fluid's next force evaluation sees
   });
   account_step(work, force, count, 1);
 }

@@ -57,6 +57,14 @@
 // compressibility keeps the staggered scheme stable. The structure's acceleration is not handed to the
 // fluid (its boundary pressure takes g alone): in the boundary pressure of Adami et al. it closes an
 // explicit added-mass loop, and the gate blew up within 5 ms with it (measured, 2026-11-22).
+// One part of the force is not held: the Riemann solver's dissipation, a resistance Z_s to the
+// structure particle's velocity relative to the fluid (RiemannInteraction). Held, it acts one acoustic
+// step late on a velocity the substeps have since changed; the structure's particle-scale modes, faster
+// than the acoustic step, then gain energy from it (the elastic gate's grew from 0.09 s at every acoustic
+// Courant number down to 0.15, and from 0.02 s with the full dissipation; it held at 0.05). So each
+// substep's field is alpha_s - Gamma_s (v_s - w_s), Gamma_s = Z_s / rho_s, w_s the chord velocity the
+// force was evaluated with: the resistance acts on the substeps' own velocity, stable while
+// Gamma_s dt_s is small (docs/VALIDATION.md section 20).
 //
 // Structure-wall contact (coupling.wall_contact): the fluid's wall particles are the TLSPH solver's
 // obstacles (gathered once for fixed walls, at the start of every fluid step where walls move, and held
@@ -124,9 +132,9 @@ class StructureCoupling {
   std::string convergence_warning() const;
 
  private:
-  // Runs the substeps across [t, t + dt] with the current interaction field; returns their count and
+  // Runs the substeps across [t, t + dt] under the schedule's interaction fields; returns their count and
   // adds the interaction work to `work`.
-  int substep(Real t, Real dt, Real& work);
+  int substep(Real t, Real dt, Real& work, InteractionSchedule<D> schedule);
   // alpha(f->s) = f_s / rho_s (Eq. 48) from force_density_, handed to the TLSPH solver.
   void set_interaction();
   // beta of the structure rows (PpeRowFill): 1/2 under a held alpha, 1/6 under a ramped one (the share
@@ -151,6 +159,7 @@ class StructureCoupling {
   StateVector<Vec<D>> row_direction_, a_rows_;  // each structure row's direction, and the iterate along it
   StateVector<Vec<D>> own_acceleration_;        // the structure's own acceleration at a step's start (ChordPrediction)
   StateVector<Vec<D>> last_interaction_;  // alpha^n (interpolated)
+  StateVector<Mat<D>> impedance_;         // the fluid's Gamma_s = Z_s / rho_s (explicit_step)
   bool interpolate_;
   bool has_last_interaction_ = false;
   StateVector<Real> density_, inverse_density_;

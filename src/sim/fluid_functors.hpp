@@ -1,9 +1,11 @@
 #pragma once
 // Particle loops of the ISPH predictor and projection (seed 001 Eqs. 10-13, 18-19). Each functor
 // writes only particle a and reads its neighbours; wall particles are skipped unless stated.
+#include <type_traits>
+
 #include "core/parallel.hpp"
-#include "kernels/fluid_view.hpp"
 #include "core/rigid_motion.hpp"
+#include "kernels/fluid_view.hpp"
 
 namespace isph {
 
@@ -289,19 +291,23 @@ struct FluidOutsideBox {
   }
 };
 
-// A vector of structure particle k to its TLSPH index (the pressure force density; with `unit`, the
-// direction of its PPE row's moment, zero where the row has none).
-template <int D>
+// A value of structure particle k to its TLSPH index (the pressure force density, the impedance; with
+// `unit`, a vector's direction: of its PPE row's moment, zero where the row has none).
+template <int D, class T = Vec<D>>
 struct ScatterToStructure {
   const Index* structure_index;
-  const Vec<D>* value;
+  const T* value;
   bool unit;
-  Vec<D>* out;
+  T* out;
   ISPH_HD void operator()(Index k) const {
     const Index s = structure_index[k];
     if (s < 0) return;
-    const Real len = sqrt(norm2(value[k]));
-    out[s] = !unit ? value[k] : len > 0 ? (1.0 / len) * value[k] : Vec<D>::zero();
+    if constexpr (std::is_same_v<T, Vec<D>>) {
+      const Real len = sqrt(norm2(value[k]));
+      out[s] = !unit ? value[k] : len > 0 ? (1.0 / len) * value[k] : Vec<D>::zero();
+    } else {
+      out[s] = value[k];
+    }
   }
 };
 

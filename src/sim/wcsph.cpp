@@ -5,7 +5,6 @@
 #include <map>
 
 #include "sim/fluid_functors.hpp"
-#include "sim/wcsph_functors.hpp"
 
 namespace isph {
 
@@ -60,6 +59,10 @@ WcsphSolver<D>::WcsphSolver(FluidSetup<D> s)
   for (auto* v : {&rho_, &drho_dt_}) ps.attach(*v);
   for (auto* v : {&acceleration_, &viscous_}) ps.attach(*v);
   for (auto* v : {&L_, &Bhat_, &grad_u_}) ps.attach(*v);
+  if (ps.has_structure()) {
+    impedance_ = ps.array(Mat<D>::zero());
+    ps.attach(impedance_);
+  }
 
   // The fluid starts in hydrostatic equilibrium below the highest fluid particle of its column (the
   // lattice column through it, along gravity), p = rho0 |g| depth, rho from Eq. 2.
@@ -148,9 +151,34 @@ void WcsphSolver<D>::evaluate_forces() {
   const Index n = particles_.size();
   const FluidView<D> v = particles_.view();
   parallel_for(exec_, n, BoundaryPressure<D>{v, gravity_, density_, sound_speed_, particles_.pressure.data(), rho_.data()});
-  parallel_for(exec_, n, RiemannInteraction<D>{v, particles_.velocity.data(), rho_.data(), particles_.pressure.data(), density_, sound_speed_, limiter_,
-                                               nullptr, acceleration_.data(), particles_.boundary_force.data()});
+  RiemannInteraction<D> momentum = riemann();
+  momentum.acceleration = acceleration_.data();
+  momentum.boundary_force = particles_.boundary_force.data();
+  momentum.impedance = impedance_.empty() ? nullptr : impedance_.data();
+  parallel_for(exec_, n, momentum);
   forces_current_ = true;
+}
+
+template <int D>
+RiemannInteraction<D> WcsphSolver<D>::riemann() const {
+  return {.v = particles_.view(),
+          .u = particles_.velocity.data(),
+          .rho = rho_.data(),
+          .p = particles_.pressure.data(),
+          .density = density_,
+          .sound_speed = sound_speed_,
+          .limiter = limiter_,
+          .drho_dt = nullptr,
+          .acceleration = nullptr,
+          .boundary_force = nullptr,
+          .impedance = nullptr};
+}
+
+template <int D>
+void WcsphSolver<D>::structure_impedance(std::span<Mat<D>> impedance) const {
+  parallel_for(
+      exec_, particles_.size(),
+      ScatterToStructure<D, Mat<D>>{particles_.structure_index.data(), impedance_.data(), false, impedance.data()});
 }
 
 template <int D>
@@ -166,8 +194,9 @@ void WcsphSolver<D>::acoustic_step(Real dt, PhaseTimer& timer, const AcousticHoo
     parallel_for(exec_, n, VerletDrift<D>{particles_.kind.data(), particles_.velocity.data(), particles_.wall_velocity.data(), dt, particles_.period(), particles_.position.data()});
   });
   timer.time("density", [&] {
-    parallel_for(exec_, n, RiemannInteraction<D>{particles_.view(), particles_.velocity.data(), rho_.data(), particles_.pressure.data(), density_,
-                                                 sound_speed_, limiter_, drho_dt_.data(), nullptr, nullptr});
+    RiemannInteraction<D> continuity = riemann();
+    continuity.drho_dt = drho_dt_.data();
+    parallel_for(exec_, n, continuity);
     parallel_for(exec_, n, EquationOfState<D>{particles_.kind.data(), drho_dt_.data(), dt, density_, sound_speed_, rho_.data(),
                                               particles_.pressure.data()});
   });
@@ -192,16 +221,24 @@ void WcsphSolver<D>::add_snapshot_fields(const std::vector<Index>& slot, std::ve
     }
   }
   fields.insert(fields.end(), {density, acceleration, boundary_force});
+  if (impedance_.empty()) return;
+  SnapshotField impedance{"impedance", D * D, std::vector<double>(D * D * n)};
+  for (std::size_t k = 0; k < n; ++k)
+    for (int i = 0; i < D; ++i)
+      for (int j = 0; j < D; ++j) impedance.data[D * D * k + D * i + j] = impedance_[slot[k]](i, j);
+  fields.push_back(std::move(impedance));
 }
 
-// The Verlet step's a^n and the force on walls and structures come from the snapshot, not from a new
-// evaluation: they were evaluated with v^{n-1/2}, which the snapshot does not hold.
+// The Verlet step's a^n, the force on walls and structures and their impedance come from the snapshot,
+// not from a new evaluation: they were evaluated with v^{n-1/2}, which the snapshot does not hold.
 template <int D>
 void WcsphSolver<D>::restore_fields(const SnapshotData& snapshot) {
   const SnapshotField& density = snapshot.field("density");
   const auto acceleration = snapshot.fields.find("pressure_acceleration");
   const auto boundary_force = snapshot.fields.find("boundary_force");
-  const bool forces = acceleration != snapshot.fields.end() && boundary_force != snapshot.fields.end();
+  const auto impedance = snapshot.fields.find("impedance");
+  const bool forces = acceleration != snapshot.fields.end() && boundary_force != snapshot.fields.end() &&
+                      (impedance_.empty() || impedance != snapshot.fields.end());
   const std::vector<long long> row = snapshot.rows_by_id();
   for (Index a = 0; a < particles_.size(); ++a) {
     const auto r = static_cast<std::size_t>(row[particles_.id[a]]);
@@ -209,6 +246,9 @@ void WcsphSolver<D>::restore_fields(const SnapshotData& snapshot) {
     if (forces) {
       acceleration_[a] = snapshot_vector<D>(acceleration->second, r);
       particles_.boundary_force[a] = snapshot_vector<D>(boundary_force->second, r);
+      if (!impedance_.empty())
+        for (int i = 0; i < D; ++i)
+          for (int j = 0; j < D; ++j) impedance_[a](i, j) = impedance->second.data[D * D * r + D * i + j];
     }
   }
   forces_current_ = forces;

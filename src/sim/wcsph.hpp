@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "sim/particle_set.hpp"
+#include "sim/wcsph_functors.hpp"
 
 namespace isph {
 
@@ -61,6 +62,9 @@ class WcsphSolver final : public FluidModel<D> {
   Vec<D> structure_pressure_force(std::span<Vec<D>> force_density) const {
     return particles_.gather_structure_force(force_density);
   }
+  // The fluid's impedance Z_s = -df_s/dv_s on each structure particle at the last force evaluation
+  // (RiemannInteraction), indexed as in the TLSPH solver.
+  void structure_impedance(std::span<Mat<D>> impedance) const;
 
   Real sound_speed() const { return sound_speed_; }
   long long advection_steps() const { return advection_steps_; }
@@ -71,6 +75,8 @@ class WcsphSolver final : public FluidModel<D> {
   void configure(Real dt, PhaseTimer& timer);
   // Boundary pressure, then the pressure force on every particle (acceleration_, boundary_force_).
   void evaluate_forces();
+  // The pair interactions at the current state, without outputs: the caller sets the pass's.
+  RiemannInteraction<D> riemann() const;
   void acoustic_step(Real dt, PhaseTimer& timer, const AcousticHook& hook);
 
   ParticleSet<D> particles_;
@@ -83,6 +89,7 @@ class WcsphSolver final : public FluidModel<D> {
   StateVector<Real> rho_, drho_dt_;
   StateVector<Vec<D>> acceleration_, viscous_;  // pressure acceleration (a^n of Verlet), viscous acceleration
   StateVector<Mat<D>> L_, Bhat_, grad_u_;
+  StateVector<Mat<D>> impedance_;  // boundary particles' Z (with a structure only)
   Real sound_speed_, self_weight_, full_sum_;
   Real advection_courant_, acoustic_courant_, limiter_;
   bool dual_, kernel_correction_, forces_current_ = false;

@@ -75,7 +75,10 @@ struct BoundaryPressure {
 // A boundary particle b (wall or structure) enters with its prescribed velocity and the pressure and
 // density of BoundaryPressure, volume V0_b. On a boundary particle a, the momentum pass gives the
 // pressure force per unit volume from its fluid neighbours, f_a = -2 sum_f V_f P* g_af, equal and
-// opposite to the force on them pair by pair (seed 001 Eq. 46).
+// opposite to the force on them pair by pair (seed 001 Eq. 46), and, where asked, the impedance
+//   Z_a = -df_a/dv_a = 2 sum_f V_f (rho_L rho_R c beta / (rho_L + rho_R)) |g_af| e_af e_af^T,
+// the dissipative part of P* differentiated with beta held: the fluid's acoustic resistance to the
+// boundary particle's motion (StructureCoupling::explicit_step).
 template <int D>
 struct RiemannInteraction {
   FluidView<D> v;
@@ -86,6 +89,7 @@ struct RiemannInteraction {
   Real* drho_dt;         // continuity pass when not null (fluid particles)
   Vec<D>* acceleration;  // momentum pass when not null: the fluid's pressure acceleration ...
   Vec<D>* boundary_force;  // ... and the boundary particles' force density
+  Mat<D>* impedance;       // ... and their impedance Z_a, when not null
 
   ISPH_HD Real volume(Index b) const { return v.is_fluid(b) ? density * v.op.volume[b] / rho[b] : v.op.volume[b]; }
   ISPH_HD Vec<D> velocity(Index b) const { return v.is_fluid(b) ? u[b] : v.wall_velocity[b]; }
@@ -95,6 +99,7 @@ struct RiemannInteraction {
     const Real c = sound_speed;
     Real continuity = 0;
     Vec<D> momentum = Vec<D>::zero();
+    Mat<D> resistance = Mat<D>::zero();
     for (Index k = v.op.nbr_offset[a]; k < v.op.nbr_offset[a + 1]; ++k) {
       const Index b = v.op.nbr[k];
       if (!fluid_a && !v.is_fluid(b)) continue;  // boundary particles feel the fluid only
@@ -113,6 +118,10 @@ struct RiemannInteraction {
         const Real beta = limiter > 0 ? fmin(limiter * fmax(uL - uR, 0.0) / c, 1.0) : 1.0;
         const Real p_star = (rL * p[b] + rR * p[a] + rL * rR * c * beta * (uL - uR)) / (rL + rR);
         momentum += (Vb * p_star) * g;
+        if (!fluid_a && impedance) {  // d(beta (uL - uR))/d(uL - uR): 2 beta where the limiter acts, else beta
+          const Real slope = limiter > 0 && beta < 1 ? 2 * beta : beta;
+          resistance = resistance + (2 * Vb * rL * rR * c * slope / (rL + rR) * g_len) * outer(e, e);
+        }
       }
     }
     if (drho_dt && fluid_a) drho_dt[a] = 2 * rho[a] * continuity;
@@ -121,6 +130,7 @@ struct RiemannInteraction {
       acceleration[a] = (-2.0 / rho[a]) * momentum;
     else
       boundary_force[a] = -2.0 * momentum;
+    if (!fluid_a && impedance) impedance[a] = resistance;
   }
 };
 

@@ -156,7 +156,8 @@ TEST(DeviceFluid, PpeAssemblyStagesMatchTheHost) {
 
 // The coupled step's own stages on the GPU against the host, on fresh random arrays, the device outputs
 // poisoned first: alpha = f/rho (InteractionAcceleration), the chord velocity and a_s (ChordMotion), the
-// ramped interaction field with Velocity-Verlet's stored acceleration (SetInteraction), the force on
+// ramped interaction field with the fluid's impedance and Velocity-Verlet's stored acceleration
+// (SetInteraction, the impedance rate from InteractionAcceleration on matrices), the force on
 // the structure (ForceComponent, summed by ordered_sum), and the walls gathered as obstacles (MarkWalls,
 // inclusive_scan, GatherWalls). Each within a relative 1e-12; the walls' places and points exactly.
 TEST(DeviceFluid, CouplingStagesMatchTheHost) {
@@ -177,7 +178,9 @@ TEST(DeviceFluid, CouplingStagesMatchTheHost) {
       return v;
     };
     const std::vector<Vec<2>> force = vectors(), x = vectors(), x_old = vectors(), v_mean = vectors(), from = vectors(),
-                              to = vectors(), interaction0 = vectors(), acc0 = vectors();
+                              to = vectors(), interaction0 = vectors(), acc0 = vectors(), v = vectors();
+    std::vector<Mat<2>> impedance(n);
+    for (auto& z : impedance) z = outer(Vec<2>{{u(rng), u(rng)}}, Vec<2>{{u(rng), u(rng)}}) + Mat<2>::identity();
     const std::vector<Real> density = positive(), volume = positive();
     std::vector<FluidKind> kind(n);
     for (auto& k : kind) k = static_cast<FluidKind>(std::uniform_int_distribution<int>(0, 2)(rng));
@@ -185,9 +188,19 @@ TEST(DeviceFluid, CouplingStagesMatchTheHost) {
 
     // the host
     std::vector<Vec<2>> alpha(n), v_new(n), a_new(n), interaction = interaction0, acc = acc0;
+    std::vector<Mat<2>> rate(n);
     parallel_for(host, n, InteractionAcceleration<2>{force.data(), density.data(), alpha.data()});
+    parallel_for(host, n, InteractionAcceleration<2, Mat<2>>{impedance.data(), density.data(), rate.data()});
     parallel_for(host, n, ChordMotion<2>{x.data(), x_old.data(), v_mean.data(), inverse_dt, v_new.data(), a_new.data()});
-    parallel_for(host, n, SetInteraction<2>{from.data(), to.data(), s, interaction.data(), acc.data()});
+    parallel_for(host, n,
+                 SetInteraction<2>{.from = from.data(),
+                                   .to = to.data(),
+                                   .s = s,
+                                   .impedance = rate.data(),
+                                   .reference_velocity = v_mean.data(),
+                                   .v = v.data(),
+                                   .interaction = interaction.data(),
+                                   .acc = acc.data()});
     StateVector<double> host_partial;
     Vec<2> host_total;
     for (int d = 0; d < 2; ++d)
@@ -201,14 +214,25 @@ TEST(DeviceFluid, CouplingStagesMatchTheHost) {
     ASSERT_GT(slot[n], 0) << "seed " << seed;
 
     // the device
-    const DeviceArray<Vec<2>> d_force(force), d_x(x), d_x_old(x_old), d_v_mean(v_mean), d_from(from), d_to(to);
+    const DeviceArray<Vec<2>> d_force(force), d_x(x), d_x_old(x_old), d_v_mean(v_mean), d_from(from), d_to(to), d_v(v);
+    const DeviceArray<Mat<2>> d_impedance(impedance);
+    DeviceArray<Mat<2>> d_rate = poisoned<Mat<2>>(n);
     const DeviceArray<Real> d_density(density), d_volume(volume);
     const DeviceArray<FluidKind> d_kind(kind);
     DeviceArray<Vec<2>> d_alpha = poisoned<Vec<2>>(n), d_v_new = poisoned<Vec<2>>(n), d_a_new = poisoned<Vec<2>>(n);
     DeviceArray<Vec<2>> d_interaction(interaction0), d_acc(acc0);
     parallel_for(gpu, n, InteractionAcceleration<2>{d_force.data(), d_density.data(), d_alpha.data()});
+    parallel_for(gpu, n, InteractionAcceleration<2, Mat<2>>{d_impedance.data(), d_density.data(), d_rate.data()});
     parallel_for(gpu, n, ChordMotion<2>{d_x.data(), d_x_old.data(), d_v_mean.data(), inverse_dt, d_v_new.data(), d_a_new.data()});
-    parallel_for(gpu, n, SetInteraction<2>{d_from.data(), d_to.data(), s, d_interaction.data(), d_acc.data()});
+    parallel_for(gpu, n,
+                 SetInteraction<2>{.from = d_from.data(),
+                                   .to = d_to.data(),
+                                   .s = s,
+                                   .impedance = d_rate.data(),
+                                   .reference_velocity = d_v_mean.data(),
+                                   .v = d_v.data(),
+                                   .interaction = d_interaction.data(),
+                                   .acc = d_acc.data()});
     StateVector<double> device_partial{StateAllocator<double>(true)};
     for (int d = 0; d < 2; ++d) {
       const double total = ordered_sum(gpu, n, ForceComponent<2>{d_volume.data(), d_force.data(), d}, device_partial);
@@ -223,6 +247,7 @@ TEST(DeviceFluid, CouplingStagesMatchTheHost) {
                                         d_wall_radius.data()});
 
     EXPECT_LT(relative_difference(alpha, d_alpha), 1e-12) << "seed " << seed;
+    EXPECT_LT(relative_difference(rate, d_rate), 1e-12) << "seed " << seed;
     EXPECT_LT(relative_difference(v_new, d_v_new), 1e-12) << "seed " << seed;
     EXPECT_LT(relative_difference(a_new, d_a_new), 1e-12) << "seed " << seed;
     EXPECT_LT(relative_difference(interaction, d_interaction), 1e-12) << "seed " << seed;

@@ -231,7 +231,8 @@ TEST(DeviceStages, TlsphSubstepsQueuedOnTheDeviceMatchTheHost) {
     const Real dt = 16 * host.stable_dt(0.5);
     Real t = 0;
     for (auto [count, ramped] : {std::pair{16, false}, std::pair{16, true}, std::pair{20, false}}) {
-      const InteractionRamp<2> ramp = ramped ? InteractionRamp<2>{from.data(), to.data()} : InteractionRamp<2>{};
+      const InteractionSchedule<2> ramp =
+          ramped ? InteractionSchedule<2>{.from = from.data(), .to = to.data()} : InteractionSchedule<2>{};
       const Real host_work = host.advance(t, dt, count, ramp);
       const Real device_work = device.advance(t, dt, count, ramp);
       t += dt;

@@ -295,7 +295,9 @@ TEST(TimeIntegration, AdvanceReturnsTheInteractionsWork) {
       const int count = 20;
       const Real dt = count * solver.stable_dt(0.5);
       const Real before = solver.kinetic_energy();
-      const Real work = solver.advance(0, dt, count, ramped ? InteractionRamp<2>{from.data(), to.data()} : InteractionRamp<2>{});
+      const Real work = solver.advance(
+          0, dt, count,
+          ramped ? InteractionSchedule<2>{.from = from.data(), .to = to.data()} : InteractionSchedule<2>{});
       const Real gain = solver.kinetic_energy() - before;
       EXPECT_NEAR(work, gain, 1e-9 * std::abs(gain)) << "integrator " << int(integrator) << (ramped ? ", ramped" : "");
       // each substep applied its own field: v = v0 + h sum_k a_k, a_k = a1 + (k + 1/2)/count (a2 - a1)
