@@ -290,6 +290,13 @@ struct ShiftingSpec {
   bool operator==(const ShiftingSpec&) const = default;
 };
 
+// Inelastic collisions of fluid particles closer than distance * dx (ISPH; sim/fluid_functors.hpp).
+struct CollisionSpec {
+  double distance = 0.5;     // fraction of dx; 0: no collisions
+  double restitution = 0.2;  // e in [0, 1]
+  bool operator==(const CollisionSpec&) const = default;
+};
+
 // The weakly compressible comparator (seed 002; sim/wcsph.hpp).
 struct WcsphSpec {
   WcsphTimeStepping time_stepping = WcsphTimeStepping::dual_criteria;  // dual: Eqs. 9-15
@@ -319,6 +326,7 @@ struct FluidSpec {
   EscapePolicy escape =
       EscapePolicy::remove;  // a fluid particle leaving the escape box: removed (and counted), or the run stops
   ShiftingSpec shifting;
+  CollisionSpec collision;
   PpeSolverSpec ppe;
   WcsphSpec wcsph;
   bool operator==(const FluidSpec&) const = default;

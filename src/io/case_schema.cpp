@@ -199,6 +199,17 @@ std::vector<CaseKey> declare_keys() {
   add(
       keys, "fluid.shifting", "taylor_correction", [](auto& c) -> auto& { return c.fluid.shifting.taylor_correction; })
       .doc("correct the shifted particles' velocity and pressure by a Taylor expansion (Eqs. 20, 31-32)");
+  // [fluid.collision]
+  add(
+      keys, "fluid.collision", "distance", [](auto& c) -> auto& { return c.fluid.collision.distance; })
+      .bounds(KeyBounds{0, 1})
+      .doc(
+          "fluid particles closer than distance · dx that still approach each other collide inelastically "
+          "(ISPH; docs/CASES.md). 0: no collisions");
+  add(
+      keys, "fluid.collision", "restitution", [](auto& c) -> auto& { return c.fluid.collision.restitution; })
+      .bounds(KeyBounds{0, 1})
+      .doc("e: the share of the approaching velocity a collision reverses (0: fully inelastic)");
   // [fluid.ppe]
   add(
       keys, "fluid.ppe", "backend", [](auto& c) -> auto& { return c.fluid.ppe.backend; })

@@ -46,7 +46,8 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
       pairwise_force_(s.interaction_force == InteractionForce::pairwise),
       wall_force_(s.wall_force) {
   ParticleSet<D>& ps = particles_;
-  for (auto* v : {&x_old_, &u_star_, &u_new_, &grad_p_, &surface_normal_, &shift_, &wall_moment_}) *v = ps.array(Vec<D>::zero());
+  for (auto* v : {&x_old_, &u_star_, &u_new_, &u_collided_, &grad_p_, &surface_normal_, &shift_, &wall_moment_})
+    *v = ps.array(Vec<D>::zero());
   for (auto* v : {&L_, &Bhat_, &L_structure_}) *v = ps.array(Mat<D>::identity());
   grad_u_ = ps.array(Mat<D>::zero());
   div_r_ = ps.array(Real{D});
@@ -56,7 +57,8 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
   // The work arrays are refilled every step before they are read; they follow the particles anyway, so
   // that their sizes follow a removal and the snapshot fields (classes, div r, shift) stay aligned.
   // p_trial_ is a copy of the pressure from each solve on.
-  for (auto* v : {&x_old_, &u_star_, &u_new_, &grad_p_, &surface_normal_, &shift_, &wall_moment_}) ps.attach(*v);
+  for (auto* v : {&x_old_, &u_star_, &u_new_, &u_collided_, &grad_p_, &surface_normal_, &shift_, &wall_moment_})
+    ps.attach(*v);
   for (auto* v : {&L_, &Bhat_, &grad_u_, &L_structure_}) ps.attach(*v);
   for (auto* v : {&div_r_, &alpha_, &div_u_star_, &eddy_viscosity_, &pressure_volume_, &rhs_}) ps.attach(*v);
   ps.attach(detected_);
@@ -251,6 +253,15 @@ void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
   timer.time("projection", [&] {
     parallel_for(exec_, n, CorrectedGradient<D>{pv.op, L_.data(), particles_.pressure.data(), grad_p_.data()});
     parallel_for(exec_, n, Project<D>{v, grad_p_.data(), u_star_.data(), density_, dt, u_new_.data()});
+    if (settings_.collision.distance > 0) {
+      parallel_for(exec_, n,
+                   ParticleCollision<D>{.v = v,
+                                        .u = u_new_.data(),
+                                        .distance = settings_.collision.distance * v.dx,
+                                        .restitution = settings_.collision.restitution,
+                                        .out = u_collided_.data()});
+      u_new_.swap(u_collided_);
+    }
     parallel_for(exec_, n, Advance<D>{particles_.kind.data(), particles_.wall_velocity.data(), u_new_.data(), x_old_.data(), dt, particles_.period(),
                                       particles_.velocity.data(), particles_.position.data()});
   });

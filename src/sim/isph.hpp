@@ -84,7 +84,7 @@ class IsphSolver final : public FluidModel<D> {
   Vec<D> gravity_;
   FluidSpec settings_;
   // work arrays (in managed memory on the cuda device, like the state; they follow the particles)
-  StateVector<Vec<D>> x_old_, u_star_, u_new_, grad_p_, surface_normal_, shift_;
+  StateVector<Vec<D>> x_old_, u_star_, u_new_, u_collided_, grad_p_, surface_normal_, shift_;
   StateVector<Mat<D>> L_, Bhat_, grad_u_;
   StateVector<Real> div_r_, alpha_, div_u_star_, eddy_viscosity_, pressure_volume_;
   StateVector<SurfaceClass> detected_, cls_;

@@ -98,7 +98,9 @@ inline std::map<std::string, std::vector<double>> read_csv(const fs::path& file)
   while (std::getline(in, line)) {
     std::stringstream row(line);
     std::size_t k = 0;
-    for (std::string c; std::getline(row, c, ',') && k < names.size(); ++k) cols[names[k]].push_back(std::stod(c));
+    // strtod, not stod: a force that decays to a subnormal (4e-320 N) is a value, not an error
+    for (std::string c; std::getline(row, c, ',') && k < names.size(); ++k)
+      cols[names[k]].push_back(std::strtod(c.c_str(), nullptr));
   }
   return cols;
 }

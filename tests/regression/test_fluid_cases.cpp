@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "run_support.hpp"
 
@@ -164,7 +165,7 @@ TEST(HydrostaticTank, ViscousLiquidStaysStillWhereTheSurfaceMeetsTheWalls) {
 // must lie between the Martin & Moyce experiment (friction and the gate make the experiment the slow
 // bound; 0.1 allowed for its scatter) and Ritter's dry-bed shallow-water front Z = 1 + 2T (the inviscid
 // upper bound), and follow Koshizuka & Oka's MPS simulation of the same set-up (RMSE of Z below 0.2,
-// and within 5 % of `measured_rmse`, the run's own on 2026-12-05).
+// and within 5 % of `measured_rmse`, the run's own: ISPH's on 2026-12-06, WCSPH's on 2026-12-05).
 void expect_surge_front(const std::string& name, double dx, const std::string& sets, double measured_rmse) {
   const fs::path out = fresh_dir(name);
   const double a = 0.146, g = 9.81;
@@ -208,13 +209,41 @@ TEST(DamBreak, CoarseSurgeFront) {
                      " --set 'bodies.floor.shape={type=\"rectangle\",min=[-0.0219,-0.0219],max=[0.6059,0.0]}'"
                      " --set 'bodies.left_wall.shape={type=\"rectangle\",min=[-0.0219,0.0],max=[0.0,0.584]}'"
                      " --set 'bodies.right_wall.shape={type=\"rectangle\",min=[0.584,0.0],max=[0.6059,0.584]}'",
-                     0.1047);
+                     0.0975);
 }
 
 // The weakly compressible comparator at a/dx = 40: at a/dx = 20 its front lags the MPS front (RMSE 0.43
 // to t sqrt(g/a) = 2, measured 2026-11-22); at a/dx = 40 it follows it (0.09 over the whole run-out).
 TEST(DamBreak, WeaklyCompressibleSurgeFront) {
   expect_surge_front("dam_break_wcsph", 0.00365, " --set fluid.model=\"wcsph\"", 0.0862);
+}
+
+// Through the plunging wave's cavity closing (t sqrt(g/a) = 7.4) and on into the sloshing, to 1.7 s
+// (t sqrt(g/a) = 13.9), at a/dx = 20. The reference is the energy principle: nothing but the walls acts
+// on the water, so its total energy may only fall; the books' largest fraction created stays under
+// 0.07 of the case's energy scale (measured 2026-12-06: 0.065), and the fastest particle stays below 8
+// m/s (5.4 measured; the spray of the impact reaches about 7 in the a/40 run of section 10). Without the
+// particle collisions (fluid.collision) surface layers that meet clump and are thrown apart, and the
+// books stop the same run (at 1.66 s, 0.22 of the scale created; docs/VALIDATION.md section 10).
+TEST(DamBreak, CoarseRunThroughTheCavityClosingCreatesNoEnergy) {
+  const std::string walls =
+      " --set dx=0.0073 --set output.snapshots=false --set end_time=1.7"
+      " --set 'bodies.floor.shape={type=\"rectangle\",min=[-0.0219,-0.0219],max=[0.6059,0.0]}'"
+      " --set 'bodies.left_wall.shape={type=\"rectangle\",min=[-0.0219,0.0],max=[0.0,2.92]}'"
+      " --set 'bodies.right_wall.shape={type=\"rectangle\",min=[0.584,0.0],max=[0.6059,2.92]}'";
+  const fs::path out = fresh_dir("dam_break_cavity");
+  const auto r = isph("run " + kCases + "dam_break.toml --quiet --out " + out.string() + walls);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string s = read_file(out / "summary.json");
+  EXPECT_LT(json_number(s, "peak_created_fraction"), 0.07) << s;
+  const auto fastest = read_csv(out / "probes.csv").at("fastest.u");
+  EXPECT_LT(*std::max_element(fastest.begin(), fastest.end()), 8.0);
+
+  const fs::path without = fresh_dir("dam_break_cavity_without_collisions");
+  const auto w = isph("run " + kCases + "dam_break.toml --quiet --out " + without.string() + walls +
+                      " --set fluid.collision.distance=0");
+  EXPECT_EQ(w.status, 3) << w.output;  // diverged
+  EXPECT_NE(read_file(without / "summary.json").find("energy created from nothing"), std::string::npos);
 }
 
 namespace {
@@ -231,12 +260,15 @@ double first_above(const std::vector<double>& t, const std::vector<double>& v, d
 // SPHERIC Test 2 (cases/dam_break_obstacle_3d.toml; docs/VALIDATION.md section 30) at dx = 0.05 m with
 // walls three particles thick, to 0.6 s: the collapsing column's surge reaches the gauges H3 and H2 and
 // hits the obstacle's face at P1. Experiment (Kleefsman et al. 2005): H3 wet (above 2 cm) from
-// 0.218 s, H2 from 0.368 s, P1 above 1 kPa from 0.394 s and peaking at 11.24 kPa. Measured
-// 2026-12-05: 0.248, 0.395 and 0.431 s, each 0.03-0.04 s after the experiment (at every gauge
-// alike: the experiment's gate takes time to lift), and P1's peak 9.65 kPa; no water inside a wall at
-// any step. Asserted: each arrival within 0.05 s of the experiment's and 0.005 s of what was
-// measured; the peak within 20 % of the experiment's and 5 % of what was measured; no water lost or
-// inside the walls.
+// 0.218 s, H2 from 0.368 s, P1 above 1 kPa from 0.394 s; P1's first impact in a centred 10 ms mean
+// 10.07 kPa, and its impulse over 0.1 s from its arrival 803 Pa s (scripts/dam_break_3d_report.py). The
+// raw peak is not asserted: it has not converged (it grows as dx falls, section 30). Measured
+// 2026-12-06: 0.248, 0.395 and 0.431 s, each 0.03-0.04 s after the experiment (at every gauge alike:
+// the experiment's gate takes time to lift); the 10 ms mean peak 10.74 kPa, the impulse 557 Pa s (it
+// converges towards the experiment's as dx falls: -22 % at 0.04 m, -5 % at 0.03 m); no water inside a
+// wall at any step. Asserted: each arrival within 0.05 s of the experiment's and 0.005 s of what was
+// measured; the mean peak within 20 % of the experiment's, the impulse within 35 % (this spacing's
+// shortfall), both within 5 % of what was measured; no water lost or inside the walls.
 TEST(DamBreak3D, SurgeReachesTheGaugesAndHitsTheObstacle) {
   const fs::path out = fresh_dir("dam_break_obstacle_3d");
   std::string walls;
@@ -259,9 +291,19 @@ TEST(DamBreak3D, SurgeReachesTheGaugesAndHitsTheObstacle) {
   EXPECT_NEAR(h2, 0.395, 0.005);
   EXPECT_NEAR(p1, 0.394, 0.05);
   EXPECT_NEAR(p1, 0.431, 0.005);
-  const double peak = *std::max_element(p["P1.p"].begin(), p["P1.p"].end());
-  EXPECT_NEAR(peak, 11240, 0.2 * 11240);
-  EXPECT_NEAR(peak, 9650, 0.05 * 9650);
+  // P1 on a 0.5 ms grid: its largest centred 10 ms mean, and its integral over 0.1 s from p1
+  const double step = 5e-4;
+  std::vector<double> grid;
+  for (double s = t.front(); s <= t.back(); s += step) grid.push_back(interpolate(t, p["P1.p"], s));
+  double mean_peak = 0, impulse = 0;
+  for (std::size_t k = 10; k + 10 < grid.size(); ++k)
+    mean_peak = std::max(mean_peak, std::accumulate(grid.begin() + k - 10, grid.begin() + k + 11, 0.0) / 21);
+  for (double s = p1; s < p1 + 0.1; s += step)
+    impulse += 0.5 * step * (interpolate(t, p["P1.p"], s) + interpolate(t, p["P1.p"], s + step));
+  EXPECT_NEAR(mean_peak, 10070, 0.2 * 10070);
+  EXPECT_NEAR(mean_peak, 10740, 0.05 * 10740);
+  EXPECT_NEAR(impulse, 803, 0.35 * 803);
+  EXPECT_NEAR(impulse, 557, 0.05 * 557);
   const std::string summary = read_file(out / "summary.json");
   EXPECT_EQ(json_number(summary, "fluid_removed"), 0);
   EXPECT_EQ(json_number(summary, "steps_with_fluid_inside_wall"), 0);

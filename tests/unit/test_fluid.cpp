@@ -436,7 +436,7 @@ TEST(PpeAssembly, MatchesDenseAssembly) {
       dense[a][a] = 1.0;
       continue;
     }
-    // the two-point row, then - m1 . <grad p>_a, m1 = sum_b c_ab r_ab (exact for linear fields)
+    // the two-point row, then where alpha = 1 - m1 . <grad p>_a, m1 = sum_b c_ab r_ab (exact for linear fields)
     double diag = 0;
     std::vector<double> c(n, 0.0);
     Vec<2> m1 = Vec<2>::zero();
@@ -446,13 +446,13 @@ TEST(PpeAssembly, MatchesDenseAssembly) {
       c[b] = -2 * volume[b] * dot(r, l * kernel.gradient(r)) / (density * norm2(r));
       m1 += c[b] * r;
     }
+    const double al = alpha[a];
     for (Index b = 0; b < n; ++b) {
       const Vec<2> r = x[a] - x[b];
       if (b == a || norm2(r) >= kernel.support() * kernel.support()) continue;
-      c[b] += volume[b] * dot(m1, l * kernel.gradient(r));
+      if (al == 1) c[b] += volume[b] * dot(m1, l * kernel.gradient(r));
       diag += c[b];
     }
-    const double al = alpha[a];
     dense[a][a] = al;
     for (Index b = 0; b < n; ++b) dense[a][b] += (b == a ? 0.0 : -al * c[b] / diag);
     dense_rhs[a] = -al * div_u[a] / (dt * diag);
