@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "poisson/ppe_assembly.hpp"
+#include "sim/coupling.hpp"
 #include "sim/fluid_functors.hpp"
 #include "structure/interaction.hpp"
 
@@ -103,6 +104,11 @@ Real IsphSolver<D>::time_step() const {
   if (nu_max > 0) dt = std::min(dt, settings_.viscous_number * h * h / nu_max);
   if (settings_.max_dt > 0) dt = std::min(dt, settings_.max_dt);
   return dt;
+}
+
+template <int D>
+FluidStepReport IsphSolver<D>::step(Real t, Real dt, StructureCoupling<D>* structure, PhaseTimer& timer) {
+  return structure ? structure->step(t, dt, *this, timer) : step(dt, timer);
 }
 
 template <int D>

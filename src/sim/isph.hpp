@@ -31,6 +31,9 @@ class IsphSolver final : public FluidModel<D> {
 
   // One projection step of length dt: predictor, free surface, PPE, projection, shifting.
   FluidStepReport step(Real dt, PhaseTimer& timer);
+  // That step, or with a structure the coupled step that iterates on the interface (StructureCoupling::step).
+  FluidStepReport step(Real t, Real dt, StructureCoupling<D>* structure, PhaseTimer& timer) override;
+  std::string pressure_solver() const override { return solver_name_; }
   // The same step in three parts, for the coupled step, which solves the PPE again after changing the
   // structure's acceleration (set_structure_acceleration):
   //   begin_step: drift to r*, neighbours, predictor, free surface, PPE assembly;

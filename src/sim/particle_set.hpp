@@ -1,7 +1,8 @@
 #pragma once
 // The one particle set of a scene with a fluid: fluid, wall and structure particles, their boundary
 // data, the neighbour search that re-sorts them, and what every fluid model reads or writes of them
-// (moving walls, the structure's motion, energies, probes, penetration). The fluid models (the projection
+// (moving walls, the structure's motion, penetration; the probes and energies read it from
+// sim/probes.hpp). The fluid models (the projection
 // ISPH of seed 001, sim/isph.hpp, and the weakly compressible comparator of seed 002, sim/wcsph.hpp) hold
 // it by composition; their particle loops see it through a plain view (FluidView, kernels/fluid_view.hpp).
 //
@@ -33,6 +34,8 @@ template <int D>
 struct ViscousAcceleration;  // sim/fluid_functors.hpp
 template <int D>
 struct ForceComponent;  // structure/interaction.hpp
+template <int D>
+class StructureCoupling;  // sim/coupling.hpp
 
 // One array follows a re-sort or a removal: out[k] = in[order[k]].
 template <class T>
@@ -153,6 +156,7 @@ class ParticleSet {
   const Exec& exec() const { return exec_; }
   const KernelTable<D>& kernels() const { return kernels_; }
   const SmoothingKernel<D>& fluid_kernel() const { return kernels_.kernel[fluid_level_]; }
+  int fluid_level() const { return fluid_level_; }  // the fluid's level in kernels()
   Real dx() const { return dx_; }
   Real density() const { return density_; }
   const Periodicity<D>& period() const { return period_; }
@@ -216,22 +220,7 @@ class ParticleSet {
   // wall_acceleration (device-visible on the cuda device).
   void follow_structure_acceleration(std::span<const Vec<D>> a);
 
-  Real kinetic_energy() const;
-  Real potential_energy() const;  // -sum m g · x
-  Real max_speed() const;         // fastest fluid particle
-  // Shepard (kernel-normalised) interpolation at a point, with each particle's kernel against the
-  // fluid's (the coarser, KernelTable): pressure over fluid and wall particles, velocity over fluid
-  // particles. Zero where no particle is in reach.
-  Real interpolate_pressure(const Vec<D>& point) const;
-  Vec<D> interpolate_velocity(const Vec<D>& point) const;
-  // The pressure of the row that stands for TLSPH particle `structure` (its PPE pressure).
-  Real structure_pressure(Index structure) const;
-  // Largest x of the fluid particles below `height` on the vertical axis (D - 1); -inf if none.
-  Real front(Real height) const;
-  // The water surface on the vertical line through `point`: the highest height, not below point's, at
-  // which the fluid fills half of the kernel, sum_b V_b W(|z - x_b|) = 1/2 (docs/CASES.md, probes).
-  // point's own height where no water reaches the line.
-  Real water_level(const Vec<D>& point) const;
+  Real max_speed() const;  // fastest fluid particle (probes and energies: sim/probes.hpp)
   // First particle with a non-finite position, velocity or pressure, or -1.
   Index first_non_finite() const;
   // First fluid particle outside the box [lo, hi], or -1.
@@ -285,9 +274,6 @@ class ParticleSet {
   DeviceCellList<D> device_cells_;  // cuda
   DeviceNeighbourList device_neighbours_;
 
-  // V_b W(|x - x_b|), with b's kernel against the fluid's: the weight of particle b in the Shepard
-  // interpolations at x (interpolate_pressure, interpolate_velocity, water_level).
-  Real weight_at(const Vec<D>& point, Index b) const;
 
   Index fluid_count_ = 0, wall_count_ = 0;
   long long neighbour_searches_ = 0, order_version_ = 0;
@@ -310,6 +296,14 @@ class FluidModel {
   virtual const ParticleSet<D>& particles() const = 0;
   // The largest stable step of the model at the current state.
   virtual Real time_step() const = 0;
+  // One step [t, t + dt] (dt at most time_step()) with the coupled structure, if any, advanced over it:
+  // the projection step iterates the interface inside it (StructureCoupling::step), the weakly
+  // compressible step advances the structure at each of its acoustic steps (explicit_step).
+  virtual FluidStepReport step(Real t, Real dt, StructureCoupling<D>* structure, PhaseTimer& timer) = 0;
+  // The pressure solver in use ("none" without a PPE), and the model's own figures for summary.json's
+  // performance object.
+  virtual std::string pressure_solver() const { return "none"; }
+  virtual void add_performance(JsonObject& /*performance*/) const {}
   // The model's own fields for snapshots (in stable-id order: field value k belongs to particle slot[k]).
   virtual void add_snapshot_fields(const std::vector<Index>& slot, std::vector<SnapshotField>& fields) const = 0;
   // The model's own state from a snapshot, after particles().restore() (a restart).

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <map>
 
+#include "core/enum_names.hpp"
+#include "sim/coupling.hpp"
 #include "sim/fluid_functors.hpp"
 
 namespace isph {
@@ -252,6 +254,28 @@ void WcsphSolver<D>::restore_fields(const SnapshotData& snapshot) {
     }
   }
   forces_current_ = forces;
+}
+
+template <int D>
+FluidStepReport WcsphSolver<D>::step(Real /*t: the acoustic steps read the particles' time*/, Real dt,
+                                      StructureCoupling<D>* structure, PhaseTimer& timer) {
+  if (!structure) return step(dt, timer);
+  const FluidStepReport report =
+      step(dt, timer, [&](Real t0, Real h) { structure->explicit_step(t0, h, *this, timer); });
+  structure->record_contact(particles_, timer);
+  return report;
+}
+
+template <int D>
+void WcsphSolver<D>::add_performance(JsonObject& performance) const {
+  JsonObject w;
+  w.set("time_stepping", name_of(settings_.wcsph.time_stepping))
+      .set("sound_speed", sound_speed_)
+      .set("advection_steps", advection_steps_)
+      .set("acoustic_steps", acoustic_steps_)
+      .set("mean_acoustic_per_advection",
+           advection_steps_ > 0 ? double(acoustic_steps_) / advection_steps_ : 0.0);
+  performance.set("wcsph", w);
 }
 
 template class WcsphSolver<2>;

@@ -56,6 +56,11 @@ class WcsphSolver final : public FluidModel<D> {
   using AcousticHook = std::function<void(Real t, Real dt)>;
   // Advances by dt (a time_step() or less).
   FluidStepReport step(Real dt, PhaseTimer& timer, const AcousticHook& hook = {});
+  // That step with a structure advanced at each acoustic step (StructureCoupling::explicit_step), and its
+  // contact with the fluid recorded after it.
+  FluidStepReport step(Real t, Real dt, StructureCoupling<D>* structure, PhaseTimer& timer) override;
+  // The time stepping's counts (summary.json performance.wcsph).
+  void add_performance(JsonObject& performance) const override;
 
   // The pressure force per unit volume on the structure particles at the last force evaluation,
   // indexed as in the TLSPH solver, and its sum.

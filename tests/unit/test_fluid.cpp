@@ -16,6 +16,7 @@
 #include "shifting/particle_shifting.hpp"
 #include "sim/fluid_functors.hpp"
 #include "sim/isph.hpp"
+#include "sim/probes.hpp"
 #include "sim/scene.hpp"
 #include "sim/wcsph.hpp"
 
@@ -189,10 +190,10 @@ TEST(WaterLevel, FindsTheSurfaceOfStillWaterAndPassesOverADrop) {
   Scene<2> scene = build_scene<2>(load_text(tank_case(1.0, depth, 16, 0.6) + drop));
   const IsphSolver<2> solver(std::move(scene.fluid));
   const ParticleSet<2>& water = solver.particles();
-  EXPECT_NEAR(water.water_level({0.475, 0.0}), depth, 1e-3 * depth);  // under the drop; measured 0.79994
-  EXPECT_NEAR(water.water_level({0.3, 0.0}), depth, 1e-3 * depth);    // measured 0.80015
-  EXPECT_EQ(water.water_level({0.475, 1.0}), 1.0);                    // the drop alone
-  EXPECT_EQ(water.water_level({1.2, 0.0}), 0.0);                      // beside the tank
+  EXPECT_NEAR(water_level(water, {0.475, 0.0}), depth, 1e-3 * depth);  // under the drop; measured 0.79994
+  EXPECT_NEAR(water_level(water, {0.3, 0.0}), depth, 1e-3 * depth);    // measured 0.80015
+  EXPECT_EQ(water_level(water, {0.475, 1.0}), 1.0);                    // the drop alone
+  EXPECT_EQ(water_level(water, {1.2, 0.0}), 0.0);                      // beside the tank
 }
 
 // The same gauge in 3D, on SPHERIC Test 2 at rest (cases/dam_break_obstacle_3d.toml): at H4 the column
@@ -200,8 +201,8 @@ TEST(WaterLevel, FindsTheSurfaceOfStillWaterAndPassesOverADrop) {
 TEST(WaterLevel, ReadsTheColumnOfTheThreeDimensionalDamBreak) {
   Scene<3> scene = build_scene<3>(load_case(std::string(ISPH_SOURCE_DIR) + "/cases/dam_break_obstacle_3d.toml"));
   const IsphSolver<3> solver(std::move(scene.fluid));
-  EXPECT_NEAR(solver.particles().water_level({2.638, 0.5, 0.0}), 14 * 0.04, 1e-3 * 0.56);  // measured 0.55998
-  EXPECT_EQ(solver.particles().water_level({0.496, 0.5, 0.0}), 0.0);
+  EXPECT_NEAR(water_level(solver.particles(), {2.638, 0.5, 0.0}), 14 * 0.04, 1e-3 * 0.56);  // measured 0.55998
+  EXPECT_EQ(water_level(solver.particles(), {0.496, 0.5, 0.0}), 0.0);
 }
 
 // The wall beneath a structure's free part gets the normal and depth of the face it shows once the
