@@ -132,18 +132,22 @@ int main(int argc, char** argv) {
   std::vector<double> sizes;
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
-    if (arg == "--repeats" && a + 1 < argc) repeats = std::max(1, std::atoi(argv[++a]));
+    if (arg == "--repeats" && a + 1 < argc)
+      repeats = std::max(1, std::atoi(argv[++a]));
     else if (arg == "-h" || arg == "--help") {
       std::printf("usage: isph_pair_bench [--repeats R] [SIZE...]\n");
       return 0;
-    } else sizes.push_back(std::atof(arg.c_str()));
+    } else
+      sizes.push_back(std::atof(arg.c_str()));
   }
   if (sizes.empty()) sizes = {1e4, 1e5, 1e6, 4e6};
   const auto kernel = SmoothingKernel<2>::make(KernelType::cubic_spline, 1.2);
   const bool gpu = cuda_devices() > 0;
   std::printf("<!-- isph_pair_bench: %d OpenMP threads, %s, %d repeats of the corrected-gradient pass -->\n",
               omp_get_max_threads(), gpu ? "CUDA device visible" : "no CUDA device", repeats);
-  std::printf("| particles | pairs | per particle | device | neighbour list build [ms] | pass [ms] | pair evaluations/s | GPU vs host |\n");
+  std::printf(
+      "| particles | pairs | per particle | device | neighbour list build [ms] | pass [ms] | pair evaluations/s | GPU "
+      "vs host |\n");
   std::printf("|---:|---:|---:|---|---:|---:|---:|---|\n");
   for (double size : sizes) {
     const Block b = make_block(size);

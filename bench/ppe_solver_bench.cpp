@@ -145,17 +145,26 @@ int main(int argc, char** argv) {
       return argv[++a];
     };
     try {
-      if (arg == "--stencil") stencil = std::stoi(value());
-      else if (arg == "--tol") tol = std::stod(value());
-      else if (arg == "--max-iterations") max_iterations = std::stoi(value());
-      else if (arg == "--skip-over") skip_over = std::stod(value());
-      else if (arg == "--only") only = value();
-      else if (arg == "--verbose") verbose = true;
+      if (arg == "--stencil")
+        stencil = std::stoi(value());
+      else if (arg == "--tol")
+        tol = std::stod(value());
+      else if (arg == "--max-iterations")
+        max_iterations = std::stoi(value());
+      else if (arg == "--skip-over")
+        skip_over = std::stod(value());
+      else if (arg == "--only")
+        only = value();
+      else if (arg == "--verbose")
+        verbose = true;
       else if (arg == "--matrix")
         matrices.push_back(value());
-      else if (arg == "--spmv-only") spmv_only = true;
-      else if (arg == "-h" || arg == "--help") usage("help");
-      else sizes.push_back(std::stod(arg));
+      else if (arg == "--spmv-only")
+        spmv_only = true;
+      else if (arg == "-h" || arg == "--help")
+        usage("help");
+      else
+        sizes.push_back(std::stod(arg));
     } catch (const std::logic_error&) {
       usage(("bad value for " + arg).c_str());
     }
@@ -193,7 +202,8 @@ int main(int argc, char** argv) {
   std::printf("<!-- isph_ppe_bench: %s, %d OpenMP threads, %d-point stencil, tolerance %.0e, max %d iterations -->\n",
               cpu_model().c_str(), omp_get_max_threads(), stencil, tol, max_iterations);
   if (!spmv_only) {
-    std::printf("| unknowns | nonzeros | solver | setup+solve [s] | iterations | rel. residual | error vs x* | converged |\n");
+    std::printf(
+        "| unknowns | nonzeros | solver | setup+solve [s] | iterations | rel. residual | error vs x* | converged |\n");
     std::printf("|---:|---:|---|---:|---:|---:|---:|---|\n");
   }
   std::fflush(stdout);
@@ -209,8 +219,8 @@ int main(int argc, char** argv) {
       if (auto it = last.find(name); it != last.end()) {
         const double predicted = it->second.second * std::pow(N / it->second.first, 1.5);
         if (predicted > skip_over) {
-          std::printf("| %d | %zu | %s | skipped (predicted %.0f s) | | | | |\n", p.A.rows, p.A.col.size(), name.c_str(),
-                      predicted);
+          std::printf("| %d | %zu | %s | skipped (predicted %.0f s) | | | | |\n", p.A.rows, p.A.col.size(),
+                      name.c_str(), predicted);
           std::fflush(stdout);
           continue;
         }
@@ -227,7 +237,9 @@ int main(int argc, char** argv) {
   }
 
   // SpMV alone, on the same matrices: achieved bandwidth against the least traffic of a CSR product.
-  std::printf("%s| unknowns | nonzeros | SpMV | time per product [ms] | achieved [GB/s] | copy bandwidth [GB/s] | fraction |\n", spmv_only ? "" : "\n");
+  std::printf(
+      "%s| unknowns | nonzeros | SpMV | time per product [ms] | achieved [GB/s] | copy bandwidth [GB/s] | fraction |\n",
+      spmv_only ? "" : "\n");
   std::printf("|---:|---:|---|---:|---:|---:|---:|\n");
   for (double size : sizes) {
     const int n = std::max(3, static_cast<int>(std::lround(std::sqrt(size))));
@@ -245,16 +257,19 @@ int main(int argc, char** argv) {
       const struct {
         SpmvAlgorithm algorithm;
         int lanes;
-      } variants[] = {{SpmvAlgorithm::reproducible, 0}, {SpmvAlgorithm::default_csr, 0}, {SpmvAlgorithm::vector_csr, 4},
-                      {SpmvAlgorithm::vector_csr, 8}, {SpmvAlgorithm::vector_csr, 16}};
+      } variants[] = {{SpmvAlgorithm::reproducible, 0},
+                      {SpmvAlgorithm::default_csr, 0},
+                      {SpmvAlgorithm::vector_csr, 4},
+                      {SpmvAlgorithm::vector_csr, 8},
+                      {SpmvAlgorithm::vector_csr, 16}};
       for (const auto& v : variants) {
         const SpmvMeasurement m = measure_cuda_spmv(p.A, p.x_star, spmv_repeats, v.algorithm, v.lanes);
         if (relative_difference(m.y, host.y) > 1e-12) std::printf("<!-- device and host products differ -->\n");
         const std::string name =
-            v.algorithm == SpmvAlgorithm::reproducible ? "cuSPARSE CSR_ALG2 (reproducible; the solver's)"
-            : v.algorithm == SpmvAlgorithm::default_csr
-                ? "cuSPARSE CSR_ALG1 (default)"
-                : "vector CSR, " + std::to_string(v.lanes) + " lanes per row" + (v.lanes == chosen ? " (its choice)" : "");
+            v.algorithm == SpmvAlgorithm::reproducible  ? "cuSPARSE CSR_ALG2 (reproducible; the solver's)"
+            : v.algorithm == SpmvAlgorithm::default_csr ? "cuSPARSE CSR_ALG1 (default)"
+                                                        : "vector CSR, " + std::to_string(v.lanes) + " lanes per row" +
+                                                              (v.lanes == chosen ? " (its choice)" : "");
         row(name.c_str(), m.seconds_per_product, m.copy_bandwidth);
       }
     }

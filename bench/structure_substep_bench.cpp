@@ -110,19 +110,23 @@ int main(int argc, char** argv) {
   std::vector<double> sizes;
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
-    if (arg == "--steps" && a + 1 < argc) fixed_steps = std::max(1, std::atoi(argv[++a]));
+    if (arg == "--steps" && a + 1 < argc)
+      fixed_steps = std::max(1, std::atoi(argv[++a]));
     else if (arg == "-h" || arg == "--help") {
       std::printf("usage: isph_substep_bench [--steps S] [PARTICLES...]\n");
       return 0;
-    } else sizes.push_back(std::atof(arg.c_str()));
+    } else
+      sizes.push_back(std::atof(arg.c_str()));
   }
   if (sizes.empty()) sizes = {540, 5e3, 5e4, 5e5, 2e6};
   const bool gpu = cuda_devices() > 0;
-  std::printf("<!-- isph_substep_bench: %d OpenMP threads, %s; RK4 with hourglass control, 12 evaluations of "
-              "three neighbour loops per step -->\n",
-              omp_get_max_threads(), gpu ? "CUDA device visible" : "no CUDA device");
-  std::printf("| particles | pairs | device | substeps | time per RK4 substep [us] | particle-steps/s | pair evaluations/s | "
-              "largest |x - x_host| [m] | work vs host |\n");
+  std::printf(
+      "<!-- isph_substep_bench: %d OpenMP threads, %s; RK4 with hourglass control, 12 evaluations of "
+      "three neighbour loops per step -->\n",
+      omp_get_max_threads(), gpu ? "CUDA device visible" : "no CUDA device");
+  std::printf(
+      "| particles | pairs | device | substeps | time per RK4 substep [us] | particle-steps/s | pair evaluations/s | "
+      "largest |x - x_host| [m] | work vs host |\n");
   std::printf("|---:|---:|---|---:|---:|---:|---:|---:|---:|\n");
   for (double size : sizes) {
     const TlsphSetup<2> setup = block(size);

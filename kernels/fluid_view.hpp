@@ -17,12 +17,12 @@ enum class SurfaceClass : unsigned char { interior = 0, near_surface = 1, surfac
 
 template <int D>
 struct FluidView {
-  OperatorView<D> op;            // positions, volumes, CSR neighbours, kernel, periodicity
+  OperatorView<D> op;  // positions, volumes, CSR neighbours, kernel, periodicity
   const FluidKind* kind;
-  const Vec<D>* wall_velocity;   // velocity of wall and structure particles
+  const Vec<D>* wall_velocity;      // velocity of wall and structure particles
   const Vec<D>* wall_acceleration;  // their acceleration
-  const Vec<D>* wall_normal;     // walls: unit normal of the nearest wall surface, into the fluid
-  const Real* wall_depth;        // walls: distance below that surface
+  const Vec<D>* wall_normal;        // walls: unit normal of the nearest wall surface, into the fluid
+  const Real* wall_depth;           // walls: distance below that surface
   Real dx;
 
   ISPH_HD bool is_fluid(Index a) const { return kind[a] == FluidKind::fluid; }

@@ -84,7 +84,7 @@ struct OperatorView {
   const Index* nbr_offset;  // CSR: neighbours of a are nbr[nbr_offset[a] .. nbr_offset[a+1])
   const Index* nbr;
   KernelTable<D> kernels;
-  Periodicity<D> period = {};  // minimum-image pair vectors on periodic axes
+  Periodicity<D> period = {};            // minimum-image pair vectors on periodic axes
   const unsigned char* level = nullptr;  // each particle's index in `kernels` (null: all on level 0)
 
   ISPH_HD Vec<D> r(Index a, Index b) const { return period.delta(x[a], x[b]); }

@@ -42,11 +42,11 @@ namespace isph {
 namespace amg {
 
 inline constexpr double kStrengthThreshold = 0.25;
-inline constexpr int kSweeps = 1;             // before and after the coarse correction
-inline constexpr int kCoarsest = 64;          // coarsening stops at this many unknowns or fewer
-inline constexpr double kStall = 0.85;        // ... or when a level keeps more than this share of its rows
-inline constexpr int kDenseLimit = 512;       // the coarsest level is inverted densely up to this size
-inline constexpr int kCoarseSweeps = 20;      // else smoothed by this many sweeps
+inline constexpr int kSweeps = 1;         // before and after the coarse correction
+inline constexpr int kCoarsest = 64;      // coarsening stops at this many unknowns or fewer
+inline constexpr double kStall = 0.85;    // ... or when a level keeps more than this share of its rows
+inline constexpr int kDenseLimit = 512;   // the coarsest level is inverted densely up to this size
+inline constexpr int kCoarseSweeps = 20;  // else smoothed by this many sweeps
 inline constexpr int kMaxLevels = 25;
 inline constexpr int kProductCapacity = 256;  // entries of one row of a sparse product, at most
 
@@ -389,8 +389,8 @@ class AggregationAmg {
       Level& level = levels_[levels_used_ - 1];
       const Exec exec = ops_.exec();
       parallel_for(exec, level.n, InverseDiagonal{level.A_view, level.dinv.data()});
-      const Index bad = parallel_reduce(exec, level.n, RowWithoutDiagonal::kNoRow,
-                                        RowWithoutDiagonal{level.dinv.data()}, MinOf{});
+      const Index bad =
+          parallel_reduce(exec, level.n, RowWithoutDiagonal::kNoRow, RowWithoutDiagonal{level.dinv.data()}, MinOf{});
       if (bad != RowWithoutDiagonal::kNoRow)
         return "zero diagonal in row " + std::to_string(bad) + ": the AMG level " + std::to_string(levels_used_ - 1) +
                " cannot be smoothed";
@@ -457,10 +457,10 @@ class AggregationAmg {
   struct Level {
     int n = 0;
     Index nonzeros = 0;
-    Csr A;                // levels below the finest; the finest uses A_view only
+    Csr A;  // levels below the finest; the finest uses A_view only
     CsrView A_view;
     Array<double> dinv, l1inv, res, tmp, rhs, z;  // rhs, z: a coarse level's right-hand side and correction
-    Csr P, R;             // to and from the next level
+    Csr P, R;                                     // to and from the next level
   };
 
   // The next level of n rows, its vectors at least n long.
@@ -511,8 +511,9 @@ class AggregationAmg {
     parallel_for(exec, n, amg::CountAggregated{aggregate.data(), tentative.row_offset.data() + 1});
     inclusive_scan(exec, tentative.row_offset.data() + 1, n);
     allocate_entries(tentative);
-    parallel_for(exec, n, amg::TentativeEntry{aggregate.data(), tentative.row_offset.data(), tentative.col.data(),
-                                             tentative.val.data()});
+    parallel_for(
+        exec, n,
+        amg::TentativeEntry{aggregate.data(), tentative.row_offset.data(), tentative.col.data(), tentative.val.data()});
     // P = (I - omega D^-1 A) P_tent, omega = 4 / (3 rho)
     const double rho = parallel_reduce(exec, n, 0.0, amg::ScaledRowSum{A, level.dinv.data()}, MaxOf{});
     parallel_for(exec, n, amg::JacobiOperator{A, level.dinv.data(), 4.0 / (3.0 * rho), w.jacobi.data()});

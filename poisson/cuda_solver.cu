@@ -24,10 +24,12 @@ namespace isph {
 namespace {
 
 void check(cusparseStatus_t s, const char* what) {
-  if (s != CUSPARSE_STATUS_SUCCESS) throw std::runtime_error(std::string("cuSPARSE ") + what + ": " + cusparseGetErrorString(s));
+  if (s != CUSPARSE_STATUS_SUCCESS)
+    throw std::runtime_error(std::string("cuSPARSE ") + what + ": " + cusparseGetErrorString(s));
 }
 void check(cublasStatus_t s, const char* what) {
-  if (s != CUBLAS_STATUS_SUCCESS) throw std::runtime_error(std::string("cuBLAS ") + what + ": " + cublasGetStatusString(s));
+  if (s != CUBLAS_STATUS_SUCCESS)
+    throw std::runtime_error(std::string("cuBLAS ") + what + ": " + cublasGetStatusString(s));
 }
 void check(cudaError_t s, const char* what) {
   if (s != cudaSuccess) throw std::runtime_error(std::string(what) + ": " + cudaGetErrorString(s));
@@ -72,21 +74,28 @@ void launch_vector_csr(int rows, const int* row_offset, const int* col, const do
   check(cudaGetLastError(), "vector CSR product");
 }
 
-void vector_csr(int lanes, int rows, const int* row_offset, const int* col, const double* val, const double* x, double* y) {
+void vector_csr(int lanes, int rows, const int* row_offset, const int* col, const double* val, const double* x,
+                double* y) {
   if (rows == 0) return;
   switch (lanes) {
-    case 2: return launch_vector_csr<2>(rows, row_offset, col, val, x, y);
-    case 4: return launch_vector_csr<4>(rows, row_offset, col, val, x, y);
-    case 8: return launch_vector_csr<8>(rows, row_offset, col, val, x, y);
-    case 16: return launch_vector_csr<16>(rows, row_offset, col, val, x, y);
-    case 32: return launch_vector_csr<32>(rows, row_offset, col, val, x, y);
-    default: throw std::invalid_argument("vector CSR product: " + std::to_string(lanes) + " lanes per row (2, 4, 8, 16 or 32)");
+    case 2:
+      return launch_vector_csr<2>(rows, row_offset, col, val, x, y);
+    case 4:
+      return launch_vector_csr<4>(rows, row_offset, col, val, x, y);
+    case 8:
+      return launch_vector_csr<8>(rows, row_offset, col, val, x, y);
+    case 16:
+      return launch_vector_csr<16>(rows, row_offset, col, val, x, y);
+    case 32:
+      return launch_vector_csr<32>(rows, row_offset, col, val, x, y);
+    default:
+      throw std::invalid_argument("vector CSR product: " + std::to_string(lanes) +
+                                  " lanes per row (2, 4, 8, 16 or 32)");
   }
 }
 
 class CudaOps : public DeviceArrayOps {
  public:
-
   // lanes: the vector CSR kernel's threads per row; 0 chooses them from each matrix (vector_csr_lanes).
   explicit CudaOps(SpmvAlgorithm algorithm = SpmvAlgorithm::reproducible, int lanes = 0)
       : vector_csr_(algorithm == SpmvAlgorithm::vector_csr), lanes_(lanes), algorithm_(spmv_algorithm(algorithm)) {
@@ -114,10 +123,10 @@ class CudaOps : public DeviceArrayOps {
       return;
     }
     scratch_.grow_to(static_cast<std::size_t>(A.rows));
-    check(cusparseCreateCsr(&matrix_, A.rows, A.rows, static_cast<int64_t>(A.val.size()), row_offset_.data(),
-                            col_.data(), val_.data(), CUSPARSE_INDEX_32I, CUSPARSE_INDEX_32I,
-                            CUSPARSE_INDEX_BASE_ZERO, CUDA_R_64F),
-          "create CSR matrix");
+    check(
+        cusparseCreateCsr(&matrix_, A.rows, A.rows, static_cast<int64_t>(A.val.size()), row_offset_.data(), col_.data(),
+                          val_.data(), CUSPARSE_INDEX_32I, CUSPARSE_INDEX_32I, CUSPARSE_INDEX_BASE_ZERO, CUDA_R_64F),
+        "create CSR matrix");
     check(cusparseCreateDnVec(&x_, A.rows, scratch_.data(), CUDA_R_64F), "create vector");
     check(cusparseCreateDnVec(&y_, A.rows, scratch_.data(), CUDA_R_64F), "create vector");
     std::size_t bytes = 0;
@@ -141,8 +150,8 @@ class CudaOps : public DeviceArrayOps {
     check(cusparseDnVecSetValues(x_, const_cast<double*>(x.data())), "set vector");
     check(cusparseDnVecSetValues(y_, y.data()), "set vector");
     const double one = 1, zero = 0;
-    check(cusparseSpMV(sparse_, CUSPARSE_OPERATION_NON_TRANSPOSE, &one, matrix_, x_, &zero, y_, CUDA_R_64F,
-                       algorithm_, buffer_.data()),
+    check(cusparseSpMV(sparse_, CUSPARSE_OPERATION_NON_TRANSPOSE, &one, matrix_, x_, &zero, y_, CUDA_R_64F, algorithm_,
+                       buffer_.data()),
           "SpMV");
   }
 
@@ -197,7 +206,8 @@ double timed_ms(F&& f) {
 namespace detail {
 std::unique_ptr<LinearSolver> make_cuda_solver(const SolverSettings& s) {
   if (cuda_devices() == 0)
-    throw std::invalid_argument("linear solver: backend 'cuda' needs a CUDA device, and none is visible to this process");
+    throw std::invalid_argument(
+        "linear solver: backend 'cuda' needs a CUDA device, and none is visible to this process");
   return std::make_unique<OwnKrylovSolver<CudaOps>>(s);
 }
 }  // namespace detail
@@ -211,11 +221,12 @@ SpmvMeasurement measure_cuda_spmv(const CsrMatrix& A, const std::vector<double>&
   auto dx = ops.vector(A.rows), dy = ops.vector(A.rows);
   ops.upload(x, dx);
   ops.upload(std::vector<double>(A.rows, std::numeric_limits<double>::quiet_NaN()), dy);  // poisoned
-  ops.spmv(dx, dy);  // warm-up
+  ops.spmv(dx, dy);                                                                       // warm-up
   SpmvMeasurement m;
   m.seconds_per_product = 1e-3 * timed_ms([&] {
-    for (int k = 0; k < repeats; ++k) ops.spmv(dx, dy);
-  }) / repeats;
+                            for (int k = 0; k < repeats; ++k) ops.spmv(dx, dy);
+                          }) /
+                          repeats;
   dy.download(m.y);  // resizes m.y
   m.bytes_per_product = 12.0 * A.val.size() + 4.0 * (A.rows + 1) + 16.0 * A.rows;
 

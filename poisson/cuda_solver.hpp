@@ -23,10 +23,10 @@ inline int vector_csr_lanes(double entries_per_row) {
 }
 
 struct SpmvMeasurement {
-  std::vector<double> y;             // A x from the device
-  double seconds_per_product = 0;    // mean of `repeats` products, timed with CUDA events
-  double bytes_per_product = 0;      // least traffic: 12 bytes per nonzero, 4 per row offset, x read and y written once
-  double copy_bandwidth = 0;         // bytes/s of device-to-device copies of 512 MiB (read + write counted)
+  std::vector<double> y;           // A x from the device
+  double seconds_per_product = 0;  // mean of `repeats` products, timed with CUDA events
+  double bytes_per_product = 0;    // least traffic: 12 bytes per nonzero, 4 per row offset, x read and y written once
+  double copy_bandwidth = 0;       // bytes/s of device-to-device copies of 512 MiB (read + write counted)
 };
 
 // lanes: the vector CSR kernel's threads per row (a power of two, 2 to 32), 0 for vector_csr_lanes.

@@ -4,12 +4,11 @@
 // Eigen::SparseMatrix, whose matrix-vector product Eigen runs with OpenMP.
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCore>
-#include <unsupported/Eigen/IterativeSolvers>
-
 #include <algorithm>
 #include <memory>
 #include <span>
 #include <string>
+#include <unsupported/Eigen/IterativeSolvers>
 
 #include "poisson/linear_solver.hpp"
 

@@ -38,7 +38,8 @@ class HostOps {
   void set_matrix(const CsrMatrix& A) { A_ = A; }
   CsrView matrix() const { return {A_.rows, A_.row_offset.data(), A_.col.data(), A_.val.data()}; }
   void spmv(const Vector& x, Vector& y) const {
-    parallel_for(exec(), A_.rows, CsrRowProduct{A_.row_offset.data(), A_.col.data(), A_.val.data(), x.data(), y.data()});
+    parallel_for(exec(), A_.rows,
+                 CsrRowProduct{A_.row_offset.data(), A_.col.data(), A_.val.data(), x.data(), y.data()});
   }
   // Summed in fixed blocks, then the block sums in order: the result does not depend on the threads.
   double dot(const Vector& x, const Vector& y) {
@@ -63,6 +64,5 @@ class HostOps {
   CsrMatrix A_;
   std::vector<double> partial_sums_;  // dot(): one sum per block
 };
-
 
 }  // namespace isph

@@ -3,9 +3,9 @@
 // one BoomerAMG V-cycle, by Jacobi (diagonal scaling) or by nothing. MPI and hypre are initialised on
 // first use and finalised at exit (MPI only when this file initialised it). Every hypre object made for
 // a solve is destroyed when the solve ends.
-#include "poisson/linear_solver.hpp"
-
 #include <stdexcept>
+
+#include "poisson/linear_solver.hpp"
 
 #ifdef ISPH_HAVE_HYPRE
 
@@ -16,13 +16,12 @@
 #ifndef MPICH_SKIP_MPICXX
 #define MPICH_SKIP_MPICXX 1
 #endif
-#include <mpi.h>
-
 #include <HYPRE.h>
 #include <HYPRE_IJ_mv.h>
 #include <HYPRE_krylov.h>
 #include <HYPRE_parcsr_ls.h>
 #include <HYPRE_parcsr_mv.h>
+#include <mpi.h>
 
 #include <mutex>
 #include <numeric>
@@ -83,8 +82,7 @@ class HypreSolver final : public KrylovSolverFrame {
     HypreRuntime::ensure();
     int ranks = 1;
     MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-    if (ranks != 1)
-      return "the hypre backend runs on one MPI rank, MPI_COMM_WORLD has " + std::to_string(ranks);
+    if (ranks != 1) return "the hypre backend runs on one MPI rank, MPI_COMM_WORLD has " + std::to_string(ranks);
     n_ = A.rows;
     HYPRE_ClearAllErrors();
     build_matrix(A);
@@ -99,9 +97,9 @@ class HypreSolver final : public KrylovSolverFrame {
     precond_ = nullptr;
     if (settings_.preconditioner == PreconditionerType::boomeramg) {
       HYPRE_BoomerAMGCreate(&amg_);
-      HYPRE_BoomerAMGSetCoarsenType(amg_, 10);         // HMIS
-      HYPRE_BoomerAMGSetInterpType(amg_, 6);           // extended+i
-      HYPRE_BoomerAMGSetPMaxElmts(amg_, 4);            // interpolation truncated to 4 entries per row
+      HYPRE_BoomerAMGSetCoarsenType(amg_, 10);  // HMIS
+      HYPRE_BoomerAMGSetInterpType(amg_, 6);    // extended+i
+      HYPRE_BoomerAMGSetPMaxElmts(amg_, 4);     // interpolation truncated to 4 entries per row
       if (settings_.dimension == 3) {
         // 3D stencils (about 60 neighbours) make the hierarchy dense: a stricter strength of connection
         // and one level of aggressive coarsening (multipass interpolation) halve the 1e6-unknown
@@ -112,11 +110,11 @@ class HypreSolver final : public KrylovSolverFrame {
       } else {
         HYPRE_BoomerAMGSetStrongThreshold(amg_, 0.25);
       }
-      HYPRE_BoomerAMGSetCycleRelaxType(amg_, 13, 1);   // l1 Gauss-Seidel forward on the way down,
-      HYPRE_BoomerAMGSetCycleRelaxType(amg_, 14, 2);   // backward on the way up,
-      HYPRE_BoomerAMGSetCycleRelaxType(amg_, 9, 3);    // Gaussian elimination on the coarsest level
+      HYPRE_BoomerAMGSetCycleRelaxType(amg_, 13, 1);  // l1 Gauss-Seidel forward on the way down,
+      HYPRE_BoomerAMGSetCycleRelaxType(amg_, 14, 2);  // backward on the way up,
+      HYPRE_BoomerAMGSetCycleRelaxType(amg_, 9, 3);   // Gaussian elimination on the coarsest level
       HYPRE_BoomerAMGSetNumSweeps(amg_, 1);
-      HYPRE_BoomerAMGSetMaxIter(amg_, 1);              // one V-cycle per application
+      HYPRE_BoomerAMGSetMaxIter(amg_, 1);  // one V-cycle per application
       HYPRE_BoomerAMGSetTol(amg_, 0.0);
       HYPRE_BoomerAMGSetPrintLevel(amg_, 0);
       precond = HYPRE_BoomerAMGSolve;
@@ -143,8 +141,10 @@ class HypreSolver final : public KrylovSolverFrame {
     if (!amg_ || A.rows != n_) return false;
     (gmres() ? HYPRE_ParCSRGMRESDestroy : HYPRE_ParCSRBiCGSTABDestroy)(krylov_);
     krylov_ = nullptr;
-    if (setup_ij_A_) HYPRE_IJMatrixDestroy(ij_A_);  // a refreshed matrix: the setup's stays
-    else setup_ij_A_ = ij_A_;
+    if (setup_ij_A_)
+      HYPRE_IJMatrixDestroy(ij_A_);  // a refreshed matrix: the setup's stays
+    else
+      setup_ij_A_ = ij_A_;
     ij_A_ = nullptr;
     HYPRE_ClearAllErrors();
     build_matrix(A);
@@ -293,7 +293,8 @@ class HypreSolver final : public KrylovSolverFrame {
 
   int n_ = 0;
   std::vector<HYPRE_BigInt> rows_;
-  HYPRE_IJMatrix ij_A_ = nullptr, setup_ij_A_ = nullptr;  // the matrix, and the one BoomerAMG was set up from (when refreshed)
+  HYPRE_IJMatrix ij_A_ = nullptr,
+                 setup_ij_A_ = nullptr;  // the matrix, and the one BoomerAMG was set up from (when refreshed)
   HYPRE_PtrToParSolverFcn precond_ = nullptr;
   HYPRE_IJVector ij_b_ = nullptr, ij_x_ = nullptr;
   HYPRE_ParCSRMatrix A_ = nullptr;

@@ -56,8 +56,17 @@ class Bicgstab {
   enum class Preconditioner { none, jacobi, polynomial, amg };
 
   Bicgstab(Ops& ops, int n)
-      : ops_(ops), n_(n), dinv_(ops.vector(n)), r_(ops.vector(n)), rhat_(ops.vector(n)), p_(ops.vector(n)),
-        v_(ops.vector(n)), s_(ops.vector(n)), t_(ops.vector(n)), phat_(ops.vector(n)), shat_(ops.vector(n)),
+      : ops_(ops),
+        n_(n),
+        dinv_(ops.vector(n)),
+        r_(ops.vector(n)),
+        rhat_(ops.vector(n)),
+        p_(ops.vector(n)),
+        v_(ops.vector(n)),
+        s_(ops.vector(n)),
+        t_(ops.vector(n)),
+        phat_(ops.vector(n)),
+        shat_(ops.vector(n)),
         work_(ops.vector(n)) {}
 
   int size() const { return n_; }
@@ -72,8 +81,8 @@ class Bicgstab {
       return amg_->setup(A);
     }
     parallel_for(ops_.exec(), n_, InverseDiagonal{A, Ops::data(dinv_)});
-    const Index bad = parallel_reduce(ops_.exec(), n_, RowWithoutDiagonal::kNoRow,
-                                      RowWithoutDiagonal{Ops::data(dinv_)}, MinOf{});
+    const Index bad =
+        parallel_reduce(ops_.exec(), n_, RowWithoutDiagonal::kNoRow, RowWithoutDiagonal{Ops::data(dinv_)}, MinOf{});
     if (bad != RowWithoutDiagonal::kNoRow)
       return "zero diagonal in row " + std::to_string(bad) + ": the Jacobi scaling cannot be built";
     return "";

@@ -1,7 +1,5 @@
 // The solver factory, option checking, and the frame shared by every backend (see linear_solver.hpp).
 #include "poisson/linear_solver.hpp"
-#include "core/ordered_sum.hpp"
-#include "poisson/sparse_functors.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -12,6 +10,9 @@
 #include <sstream>
 #include <stdexcept>
 #include <utility>
+
+#include "core/ordered_sum.hpp"
+#include "poisson/sparse_functors.hpp"
 
 namespace isph {
 
@@ -106,15 +107,17 @@ T read_back(const Exec& exec, const T* p) {
   return v;
 }
 
-StateVector<double> work_array(const Exec& exec) { return StateVector<double>(StateAllocator<double>(exec.device == Device::cuda)); }
+StateVector<double> work_array(const Exec& exec) {
+  return StateVector<double>(StateAllocator<double>(exec.device == Device::cuda));
+}
 
-double relative_residual_on(const Exec& exec, const CsrMatrix& A, std::span<const double> b,
-                            std::span<const double> x, StateVector<double>& r2, StateVector<double>& b2,
-                            StateVector<double>& partial) {
+double relative_residual_on(const Exec& exec, const CsrMatrix& A, std::span<const double> b, std::span<const double> x,
+                            StateVector<double>& r2, StateVector<double>& b2, StateVector<double>& partial) {
   r2.resize(A.rows);
   b2.resize(A.rows);
-  parallel_for(exec, A.rows, ResidualSquares{A.row_offset.data(), A.col.data(), A.val.data(), b.data(), x.data(),
-                                             r2.data(), b2.data()});
+  parallel_for(
+      exec, A.rows,
+      ResidualSquares{A.row_offset.data(), A.col.data(), A.val.data(), b.data(), x.data(), r2.data(), b2.data()});
   const double r = ordered_sum(exec, A.rows, ScalarAt{r2.data()}, partial);
   const double bb = ordered_sum(exec, A.rows, ScalarAt{b2.data()}, partial);
   return bb > 0 ? std::sqrt(r / bb) : std::sqrt(r);
@@ -134,12 +137,12 @@ void check_system(const Exec& exec, const CsrMatrix& A, std::span<const double> 
     return;
   }
   if (A.row_offset.size() != n + 1)
-    fail("row_offset has " + std::to_string(A.row_offset.size()) + " entries, expected rows + 1 = " +
-         std::to_string(n + 1));
+    fail("row_offset has " + std::to_string(A.row_offset.size()) +
+         " entries, expected rows + 1 = " + std::to_string(n + 1));
   if (n == 0 && read_back(exec, A.row_offset.data()) != 0) fail("row_offset[0] must be 0");
   if (const Index bad = first(exec, A.rows, BadOffset{A.row_offset.data()}); bad != kNone)
     fail(bad == 0 && read_back(exec, A.row_offset.data()) != 0 ? std::string("row_offset[0] must be 0")
-                                                                : "row_offset decreases at row " + std::to_string(bad));
+                                                               : "row_offset decreases at row " + std::to_string(bad));
   const auto nnz = static_cast<std::size_t>(read_back(exec, A.row_offset.data() + n));
   if (A.col.size() != nnz || A.val.size() != nnz)
     fail("col and val must have row_offset[rows] = " + std::to_string(nnz) + " entries (have " +
@@ -148,8 +151,7 @@ void check_system(const Exec& exec, const CsrMatrix& A, std::span<const double> 
     fail("column index " + std::to_string(read_back(exec, A.col.data() + bad)) + " out of range [0, " +
          std::to_string(A.rows) + ")");
   if (b.size() != n) fail("b has " + std::to_string(b.size()) + " entries, matrix has " + std::to_string(n) + " rows");
-  if (x.size() != n)
-    fail("x has " + std::to_string(x.size()) + " entries, matrix has " + std::to_string(n) + " rows");
+  if (x.size() != n) fail("x has " + std::to_string(x.size()) + " entries, matrix has " + std::to_string(n) + " rows");
 }
 
 // Sorts the columns of every row and sums duplicates.
@@ -270,10 +272,10 @@ SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, std::span<const doub
   // The frame's loops run on the backend's device when the caller's arrays live there (the fluid's, in
   // managed memory), else on the host (a test's or a benchmark's std::vectors).
   const Exec exec = exec_device_.device == Device::cuda && device_accessible(A_in.row_offset.data()) &&
-                             device_accessible(A_in.col.data()) && device_accessible(A_in.val.data()) &&
-                             device_accessible(b.data()) && device_accessible(x.data())
-                         ? exec_device_
-                         : Exec{};
+                            device_accessible(A_in.col.data()) && device_accessible(A_in.val.data()) &&
+                            device_accessible(b.data()) && device_accessible(x.data())
+                        ? exec_device_
+                        : Exec{};
   check_system(exec, A_in, b, x);
   kept_preconditioner_ = false;
   if (reuse == MatrixReuse::none && prepared_) {
@@ -370,8 +372,8 @@ SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, std::span<const doub
     // Internal tolerance that should bring the true residual below tol: relative to ||b|| it is tol
     // (tightened on later passes, against the drift of recursively updated residuals); relative to the
     // initial residual of the pass it is tol * ||b|| / ||r||.
-    double inner = tolerance_relative_to_initial_residual() ? tol / rel * (pass == 0 ? 1.0 : 0.5)
-                                                            : tol * std::pow(0.3, pass);
+    double inner =
+        tolerance_relative_to_initial_residual() ? tol / rel * (pass == 0 ? 1.0 : 0.5) : tol * std::pow(0.3, pass);
     inner = std::clamp(inner, eps, 0.5);
     const Pass p = iterate(x, inner, remaining);
     report.iterations += p.iterations;
@@ -397,8 +399,8 @@ SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, std::span<const doub
   if (report.converged)
     return done(notes + "converged in " + std::to_string(report.iterations) + " iterations" +
                 (pass > 0 ? " (" + std::to_string(pass + 1) + " passes)" : ""));
-  std::string why = remaining <= 0 ? "iteration limit " + std::to_string(settings_.max_iterations) + " reached"
-                                   : "stagnated";
+  std::string why =
+      remaining <= 0 ? "iteration limit " + std::to_string(settings_.max_iterations) + " reached" : "stagnated";
   return done(notes + "not converged: " + why + ", relative residual " + sci(rel) + " > tolerance " + sci(tol) +
               (last_note.empty() ? "" : " (" + last_note + ")"));
 }

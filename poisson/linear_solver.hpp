@@ -66,10 +66,10 @@ struct SolverSettings {
   SolverBackend backend = SolverBackend::eigen;
   KrylovMethod method = KrylovMethod::bicgstab;                 // gmres: eigen and hypre only
   PreconditionerType preconditioner = PreconditionerType::ilu;  // solver_preconditioners(backend)
-  double tolerance = 1e-8;             // relative residual ||b - Ax|| / ||b||
-  int max_iterations = 1000;           // Krylov iterations in total (over restarts and refinement passes)
-  int gmres_restart = 50;              // Krylov subspace dimension of GMRES
-  int dimension = 2;                   // the PPE's space dimension: BoomerAMG's coarsening (docs/SOLVERS.md)
+  double tolerance = 1e-8;                                      // relative residual ||b - Ax|| / ||b||
+  int max_iterations = 1000;  // Krylov iterations in total (over restarts and refinement passes)
+  int gmres_restart = 50;     // Krylov subspace dimension of GMRES
+  int dimension = 2;          // the PPE's space dimension: BoomerAMG's coarsening (docs/SOLVERS.md)
 };
 
 struct SolveReport {
@@ -181,7 +181,7 @@ class KrylovSolverFrame : public LinearSolver {
  private:
   bool prepared_ = false;  // a setup() is in place
   bool kept_preconditioner_ = false;
-  Exec exec_device_;  // the backend's device
+  Exec exec_device_;                                        // the backend's device
   StateVector<double> x0_, squares_, b_squares_, partial_;  // the initial guess; the residual's work arrays
 };
 

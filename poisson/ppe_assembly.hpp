@@ -85,7 +85,7 @@ struct PpeRowFill {
   const Real* div_u_star;
   Real density;
   Real dt;
-  Vec<D> gravity;                // g; a wall row takes g - a_w with a_w from the view
+  Vec<D> gravity;  // g; a wall row takes g - a_w with a_w from the view
   const SurfaceClass* cls;
   const Vec<D>* surface_normal;  // outward unit normal where alpha < 1 (zero if unknown)
   bool extrapolate_surface;      // the "extrapolated" surface condition instead of "zero"
@@ -93,11 +93,11 @@ struct PpeRowFill {
   int* col;
   double* val;
   double* rhs;
-  Vec<D>* wall_moment;           // wall rows: rho sum_f W_wf r_wf / sum_f W_wf, so that rhs = (g - a_w) · wall_moment
-                                 // and the row says p_w = sum_f (W_wf / sum W) p_f + rhs
-  const Index* structure_index = nullptr;   // with structure_inverse_density: the structure's inertia in its rows
+  Vec<D>* wall_moment;  // wall rows: rho sum_f W_wf r_wf / sum_f W_wf, so that rhs = (g - a_w) · wall_moment
+                        // and the row says p_w = sum_f (W_wf / sum W) p_f + rhs
+  const Index* structure_index = nullptr;  // with structure_inverse_density: the structure's inertia in its rows
   const Real* structure_inverse_density = nullptr;  // 1 / rho_s, indexed as in TLSPH
-  Real added_mass = 0;                      // beta (0: the rows take a_s as given)
+  Real added_mass = 0;                              // beta (0: the rows take a_s as given)
 
   ISPH_HD void operator()(Index a) const {
     const OperatorView<D>& op = v.op;
@@ -154,7 +154,7 @@ struct PpeRowFill {
     } else {
       val[row] = 0;
     }
-    if (extrapolate) {  // (1 - alpha) S_a
+    if (extrapolate) {                                     // (1 - alpha) S_a
       const Vec<D> ln = transpose(l) * surface_normal[a];  // n · (L g) = (L^T n) · g
       const Real w = (1 - al) * 0.5 * v.dx;
       val[row] += 1 - al;

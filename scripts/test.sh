@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ISPH_WERROR=ON bash scripts/build.sh
-bash scripts/check_format.sh  # the C++ lines the last commit changed follow .clang-format
+bash scripts/check_format.sh  # every C++ and CUDA file follows .clang-format
 cd build
 ctest --output-on-failure -j "$(nproc)" --timeout 900
 cd ..

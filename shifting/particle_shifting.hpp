@@ -68,17 +68,17 @@ struct SurfaceNormal {
 template <int D>
 struct ShiftDisplacement {
   FluidView<D> v;
-  const Real* volume;            // the particles' own volumes (v's may leave out dry walls)
+  const Real* volume;  // the particles' own volumes (v's may leave out dry walls)
   const SurfaceClass* cls;
   const Vec<D>* surface_normal;  // from SurfaceNormal (ops only)
   ShiftingType type;
-  Real coefficient;              // C
-  Real zeta;                     // |u|_max dt
-  Real max_shift;                // max_fraction h
-  bool fsi_layer;                // Eqs. 27-30 beside structures
-  FsiLayerLaw fsi_law;           // what Eq. 27 relocates
-  const Vec<D>* velocity;        // the fluid's (relative law)
-  Real dt;                       // the step (relative law)
+  Real coefficient;        // C
+  Real zeta;               // |u|_max dt
+  Real max_shift;          // max_fraction h
+  bool fsi_layer;          // Eqs. 27-30 beside structures
+  FsiLayerLaw fsi_law;     // what Eq. 27 relocates
+  const Vec<D>* velocity;  // the fluid's (relative law)
+  Real dt;                 // the step (relative law)
   Vec<D>* shift;
   ISPH_HD void operator()(Index a) const {
     shift[a] = Vec<D>::zero();

@@ -14,8 +14,8 @@
 // The difference form of Eq. 48 does not split into pair forces; its sum over the structure is the
 // pressure force on the wetted surface only as far as the discrete gradient telescopes across the
 // interface layer (docs/VALIDATION.md measures both).
-#include "kernels/operators.hpp"
 #include "kernels/fluid_view.hpp"
+#include "kernels/operators.hpp"
 
 namespace isph {
 

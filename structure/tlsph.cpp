@@ -52,7 +52,8 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
       motion_(s.motion.begin(), s.motion.end()),
       motions_(std::move(s.motions)) {
   if (exec_.device == Device::cuda && cuda_devices() == 0)
-    throw std::runtime_error("the structure solver was asked to run on a CUDA device, and none is visible to this process");
+    throw std::runtime_error(
+        "the structure solver was asked to run on a CUDA device, and none is visible to this process");
   if (loads_.size() > 8) throw std::invalid_argument("at most 8 loads are supported");
   x_ = X_;
   if (motion_.empty()) motion_.assign(n_, -1);
@@ -77,7 +78,13 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
   nbr_.assign(list.index.begin(), list.index.end());
   cgrad_.resize(nbr_.size());
   hg_weight_.resize(nbr_.size());
-  const OperatorView<D> reference{n_, X_.data(), volume_.data(), nbr_offset_.data(), nbr_.data(), kernels_, {},
+  const OperatorView<D> reference{n_,
+                                  X_.data(),
+                                  volume_.data(),
+                                  nbr_offset_.data(),
+                                  nbr_.data(),
+                                  kernels_,
+                                  {},
                                   kernels_.levels > 1 ? level_.data() : nullptr};
   std::vector<Mat<D>> L(n_, Mat<D>::identity());
   if (s.gradient != StructureGradient::uncorrected)
@@ -85,7 +92,8 @@ TlsphSolver<D>::TlsphSolver(TlsphSetup<D> s, Exec exec)
   for (Index a = 0; a < n_; ++a)
     for (Index k = nbr_offset_[a]; k < nbr_offset_[a + 1]; ++k)
       cgrad_[k] = L[a] * (volume_[nbr_[k]] * reference.gradient(a, nbr_[k], X_[a] - X_[nbr_[k]]));
-  if (s.gradient == StructureGradient::quadratic) parallel_for(Exec{}, n_, QuadraticCorrection<D>{reference, cgrad_.data()});
+  if (s.gradient == StructureGradient::quadratic)
+    parallel_for(Exec{}, n_, QuadraticCorrection<D>{reference, cgrad_.data()});
   // Per pair (a, b): the hourglass weight and the reverse pair's gradient c_ba; per particle S_a.
   rcgrad_.resize(nbr_.size());
   cgrad_sum_.assign(n_, Vec<D>::zero());
@@ -146,7 +154,8 @@ void TlsphSolver<D>::list_strained_particles() {
 template <int D>
 void TlsphSolver<D>::make_state_device_visible() {
   make_device_visible(materials_);
-  make_device_visible(volume_), make_device_visible(cell_moment_), make_device_visible(hg_weight_), make_device_visible(psi_);
+  make_device_visible(volume_), make_device_visible(cell_moment_), make_device_visible(hg_weight_),
+      make_device_visible(psi_);
   make_device_visible(material_), make_device_visible(motion_), make_device_visible(mass_);
   make_device_visible(fixed_);
   make_device_visible(block_sums_), make_device_visible(power_record_), make_device_visible(clamp_record_);
@@ -154,8 +163,8 @@ void TlsphSolver<D>::make_state_device_visible() {
   make_device_visible(strained_), make_device_visible(moving_);
   make_device_visible(obstacle_point_), make_device_visible(obstacle_radius_);
   make_device_visible(contact_offset_), make_device_visible(contact_point_), make_device_visible(contact_radius_);
-  for (auto* v : {&load_acc_, &interaction_, &X_, &x_, &v_, &acc_, &cgrad_, &rcgrad_, &cgrad_sum_, &x0_, &v0_,
-                  &x_sum_, &v_sum_, &saved_x_, &saved_v_})
+  for (auto* v : {&load_acc_, &interaction_, &X_, &x_, &v_, &acc_, &cgrad_, &rcgrad_, &cgrad_sum_, &x0_, &v0_, &x_sum_,
+                  &v_sum_, &saved_x_, &saved_v_})
     make_device_visible(*v);
   for (auto* m : {&F_, &stress_, &strain_, &gradient_stress_, &hg_moment_}) make_device_visible(*m);
 }
@@ -267,8 +276,7 @@ Real TlsphSolver<D>::advance(Real t, Real dt, int count, InteractionSchedule<D> 
   resize_for_overwrite(power_record_, 2 * static_cast<std::size_t>(count));
   Real* const clamp_slots = integrator_ == StructureIntegrator::rk4 ? clamp_record(count) : nullptr;
   const auto record_power = [&](int slot) {
-    if (with_power)
-      ordered_sum_into(exec, n_, interaction_power_term(), block_sums_, power_record_.data() + slot);
+    if (with_power) ordered_sum_into(exec, n_, interaction_power_term(), block_sums_, power_record_.data() + slot);
   };
   for (int k = 0; k < count; ++k) {
     if (schedule.varies())
@@ -305,7 +313,8 @@ constexpr Real kRk4Sum[4] = {1.0 / 6, 1.0 / 3, 1.0 / 3, 1.0 / 6};  // each stage
 
 template <int D>
 void TlsphSolver<D>::rk4_launches(const Exec& exec, Real t, Real dt, Real* clamp_record) {
-  parallel_for(exec, n_, StartRungeKutta<D>{x_.data(), v_.data(), x0_.data(), v0_.data(), x_sum_.data(), v_sum_.data()});
+  parallel_for(exec, n_,
+               StartRungeKutta<D>{x_.data(), v_.data(), x0_.data(), v0_.data(), x_sum_.data(), v_sum_.data()});
   constexpr Real w_next[4] = {0.5, 0.5, 1.0, 1.0};  // the last unused: that stage writes the result
   constexpr Real t_stage[4] = {0.0, 0.5, 0.5, 1.0};
   const bool clamps_move = !motions_.empty();
@@ -445,7 +454,8 @@ typename TlsphSolver<D>::ObstacleContact TlsphSolver<D>::obstacle_contact() cons
 
 template <int D>
 Real TlsphSolver<D>::potential_energy() const {
-  return ordered_sum(waiting_exec(), n_, GravityEnergyTerm<D>{mass_.data(), gravity_, x_.data(), X_.data()}, block_sums_);
+  return ordered_sum(waiting_exec(), n_, GravityEnergyTerm<D>{mass_.data(), gravity_, x_.data(), X_.data()},
+                     block_sums_);
 }
 
 template <int D>
@@ -487,11 +497,12 @@ void TlsphSolver<D>::find_obstacle_candidates() {
   const CellListView<D> near = exec_.device == Device::cuda ? device_obstacle_cells_.view() : obstacle_cells_.view();
   parallel_for(exec, n_, CountObstacleCandidates<D>{near, any, fixed_.data(), x_.data(), contact_offset_.data() + 1});
   inclusive_scan(exec, contact_offset_.data() + 1, n_);  // contact_offset_[0] stays 0
-  const Index candidates = contact_offset_[n_];  // one value back from the device
+  const Index candidates = contact_offset_[n_];          // one value back from the device
   resize_for_overwrite(contact_point_, candidates);
   resize_for_overwrite(contact_radius_, candidates);
-  parallel_for(exec, n_, FillObstacleCandidates<D>{near, any, fixed_.data(), x_.data(), obstacle_radius_.data(),
-                                                   contact_offset_.data(), contact_point_.data(), contact_radius_.data()});
+  parallel_for(exec, n_,
+               FillObstacleCandidates<D>{near, any, fixed_.data(), x_.data(), obstacle_radius_.data(),
+                                         contact_offset_.data(), contact_point_.data(), contact_radius_.data()});
 }
 
 template <int D>

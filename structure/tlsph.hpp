@@ -5,13 +5,13 @@
 //
 // On the cuda device the set-up runs on the host; the arrays the loops read then move to managed
 // memory (StateVector), where the device steps them and the host reads them for output. A structure
-// of a few thousand particles is launch-bound (13 launches per RK4 step of a few microseconds each; 4 more with quadratic gradients and hourglass control, 8 more with cell quadrature), so
-// the RK4 step is recorded once as a CUDA graph and replayed (LaunchGraph); it is recorded again when
-// the step size changes or the interaction field or the obstacle candidates move in memory, and not used
-// while a load ramps up or a clamp moves (their values change from step to step), where the launches go
-// one by one. The substeps of a coupled fluid step (advance) are queued on the graph's stream with the
-// interaction's power after each, and the host waits once, at the end, where no clamp moves (a moving
-// clamp's work is read back at every stage).
+// of a few thousand particles is launch-bound (13 launches per RK4 step of a few microseconds each; 4 more with
+// quadratic gradients and hourglass control, 8 more with cell quadrature), so the RK4 step is recorded once as a CUDA
+// graph and replayed (LaunchGraph); it is recorded again when the step size changes or the interaction field or the
+// obstacle candidates move in memory, and not used while a load ramps up or a clamp moves (their values change from
+// step to step), where the launches go one by one. The substeps of a coupled fluid step (advance) are queued on the
+// graph's stream with the interaction's power after each, and the host waits once, at the end, where no clamp moves (a
+// moving clamp's work is read back at every stage).
 #include <memory>
 #include <span>
 #include <string>
@@ -55,17 +55,17 @@ struct InteractionSchedule {
 
 template <int D>
 struct TlsphSetup {
-  std::vector<Vec<D>> X;        // reference positions
-  std::vector<Vec<D>> v;        // initial velocities
+  std::vector<Vec<D>> X;  // reference positions
+  std::vector<Vec<D>> v;  // initial velocities
   std::vector<Real> volume;
   std::vector<int> material;
-  std::vector<int> body;        // particles interact only within their body
+  std::vector<int> body;  // particles interact only within their body
   std::vector<unsigned char> fixed;
-  std::vector<Index> motion;    // clamped particles: index in `motions` (-1: the clamp stands still)
+  std::vector<Index> motion;  // clamped particles: index in `motions` (-1: the clamp stands still)
   std::vector<RigidMotion<D>> motions;
   std::vector<ElasticMaterial> materials;
   std::vector<LoadField<D>> loads;
-  KernelTable<D> kernels;       // one per particle spacing (a body's particles share one)
+  KernelTable<D> kernels;            // one per particle spacing (a body's particles share one)
   std::vector<unsigned char> level;  // index in `kernels` per particle (empty: all on level 0)
   StructureGradient gradient = StructureGradient::linear;
   StructureQuadrature quadrature = StructureQuadrature::point;
@@ -150,15 +150,15 @@ class TlsphSolver {
   Mat<D> cauchy_stress(Index a) const;
 
   Real kinetic_energy() const;
-  Real strain_energy() const;                 // from the last update_stress()
+  Real strain_energy() const;  // from the last update_stress()
   // The overlaps with obstacles at the current state: their stored energy, the deepest and their number.
   struct ObstacleContact {
     Real energy = 0, deepest = 0;
     Index pairs = 0;
   };
   ObstacleContact obstacle_contact() const;
-  Real potential_energy() const;              // gravity, relative to the reference configuration
-  Real external_power(Real t) const;          // power of the applied loads at time t
+  Real potential_energy() const;      // gravity, relative to the reference configuration
+  Real external_power(Real t) const;  // power of the applied loads at time t
   // Work done on the structure by its moving clamps since the start, integrated over the steps
   // (clamp_power); 0 while the clamps stand still. A restart sets it from the snapshot.
   Real clamp_work() const { return clamp_work_; }
@@ -166,7 +166,7 @@ class TlsphSolver {
   // The first particle with a non-finite position or velocity, or moved farther than `limit` from its
   // reference place; -1 when none (a reduction on the solver's device).
   Index first_runaway(Real limit) const;
-  TlsphView<D> view();                        // host view of the current state
+  TlsphView<D> view();  // host view of the current state
   ObstacleView<D> obstacles() const { return {contact_offset_.data(), contact_point_.data(), contact_radius_.data()}; }
 
  private:
@@ -196,9 +196,7 @@ class TlsphSolver {
   PowerTerm<D> clamp_power_term() const { return {motion_.data(), mass_.data(), acc_.data(), v_.data(), -1.0}; }
   KineticEnergyTerm<D> clamped_energy_term() const { return {motion_.data(), mass_.data(), v_.data()}; }
   // m_a alpha_a · v_a, the interaction's power per particle (interaction_power, advance).
-  PowerTerm<D> interaction_power_term() const {
-    return {nullptr, mass_.data(), interaction_.data(), v_.data(), 1.0};
-  }
+  PowerTerm<D> interaction_power_term() const { return {nullptr, mass_.data(), interaction_.data(), v_.data(), 1.0}; }
   // The particles the stress and the acceleration passes visit (TlsphView::strained, moving).
   void list_strained_particles();
   void make_state_device_visible();
@@ -220,7 +218,7 @@ class TlsphSolver {
   StructureIntegrator integrator_;
   Vec<D> gravity_;
   Real damping_, hourglass_;
-  bool quadratic_;  // quadratic-exact pair gradients (and the symmetric hourglass error)
+  bool quadratic_;        // quadratic-exact pair gradients (and the symmetric hourglass error)
   bool cell_quadrature_;  // StructureQuadrature::cell
   StateVector<ElasticMaterial> materials_;
   std::vector<LoadField<D>> loads_;
@@ -240,9 +238,9 @@ class TlsphSolver {
   StateVector<Index> strained_, moving_;  // empty: every particle
   StateVector<Index> motion_;
   std::vector<RigidMotion<D>> motions_;
-  mutable StateVector<Real> block_sums_;   // ordered_sum's scratch
-  StateVector<Real> power_record_;         // advance(): the interaction's power at each step's ends
-  StateVector<Real> clamp_record_;         // rk4_launches with moving clamps: six sums per step
+  mutable StateVector<Real> block_sums_;  // ordered_sum's scratch
+  StateVector<Real> power_record_;        // advance(): the interaction's power at each step's ends
+  StateVector<Real> clamp_record_;        // rk4_launches with moving clamps: six sums per step
   Real clamp_work_ = 0, saved_clamp_work_ = 0;
   StateVector<Index> nbr_offset_, nbr_;
   StateVector<Vec<D>> cgrad_;

@@ -53,14 +53,14 @@ struct TlsphView {
   Vec<D> gravity;
   const Vec<D>* interaction;  // the fluid's pressure acceleration alpha(f->s) (Eq. 48), or null
   ObstacleView<D> obstacles;  // rigid obstacles the particles may touch (the fluid's walls)
-  Real damping;    // mass-proportional damping rate [1/s]
-  Real hourglass;  // Ganzenmüller's alpha (0 = off)
-  bool quadratic;  // the pair gradients are exact for quadratic fields (the hourglass error is then symmetric)
+  Real damping;               // mass-proportional damping rate [1/s]
+  Real hourglass;             // Ganzenmüller's alpha (0 = off)
+  bool quadratic;        // the pair gradients are exact for quadratic fields (the hourglass error is then symmetric)
   bool cell_quadrature;  // the strain energy of each particle's cell with the strain's linear variation (below)
   // outputs
-  Mat<D>* F;       // deformation gradient
-  Mat<D>* stress;  // T_a = P_a + kappa H_a: the first Piola-Kirchhoff stress and the hourglass moment
-  Real* psi;       // strain energy per unit reference volume (hourglass energy included)
+  Mat<D>* F;                // deformation gradient
+  Mat<D>* stress;           // T_a = P_a + kappa H_a: the first Piola-Kirchhoff stress and the hourglass moment
+  Real* psi;                // strain energy per unit reference volume (hourglass energy included)
   Mat<D>* strain;           // cell quadrature: the Green strain E_a
   Mat<D>* gradient_stress;  // cell quadrature: Q_a,d = M_a C:G_a,d, D per particle (index a * D + d)
   Vec<D>* acc;
@@ -419,9 +419,7 @@ struct KineticEnergyTerm {
   const Index* clamped_by;  // null: every particle
   const Real* mass;
   const Vec<D>* v;
-  ISPH_HD Real operator()(Index a) const {
-    return clamped_by && clamped_by[a] < 0 ? 0 : 0.5 * mass[a] * norm2(v[a]);
-  }
+  ISPH_HD Real operator()(Index a) const { return clamped_by && clamped_by[a] < 0 ? 0 : 0.5 * mass[a] * norm2(v[a]); }
 };
 template <int D>
 struct PowerTerm {

@@ -110,9 +110,12 @@ void copy_device_to_host(void* dst, const void* src, std::size_t bytes) {
   device_emulated() ? emulated_copy(dst, src, bytes) : gpu_copy(dst, src, bytes);
 }
 std::size_t device_memory_bytes() {
-  return device_emulated() ? static_cast<std::size_t>(sysconf(_SC_PHYS_PAGES)) * sysconf(_SC_PAGESIZE) : gpu_memory_bytes();
+  return device_emulated() ? static_cast<std::size_t>(sysconf(_SC_PHYS_PAGES)) * sysconf(_SC_PAGESIZE)
+                           : gpu_memory_bytes();
 }
-void* managed_allocate(std::size_t bytes) { return device_emulated() ? emulated_allocate(bytes) : gpu_managed_allocate(bytes); }
+void* managed_allocate(std::size_t bytes) {
+  return device_emulated() ? emulated_allocate(bytes) : gpu_managed_allocate(bytes);
+}
 void managed_free(void* p, std::size_t bytes) { device_emulated() ? emulated_free(p) : gpu_managed_free(p, bytes); }
 bool device_accessible(const void* p) { return device_emulated() ? emulated_accessible(p) : gpu_accessible(p); }
 

@@ -25,7 +25,7 @@ void copy_device_to_host(void* dst, const void* src, std::size_t bytes);
 // the pages to whichever touches them). For state that the device steps and the host reads for output.
 // An allocation that would take the managed memory held beyond 80 % of the device's throws.
 void* managed_allocate(std::size_t bytes);
-std::size_t device_memory_bytes();  // the current device's memory (0 without CUDA)
+std::size_t device_memory_bytes();              // the current device's memory (0 without CUDA)
 void managed_free(void* p, std::size_t bytes);  // bytes: as allocated
 // Whether a kernel can read p: device or managed memory (a null pointer, an empty array's, counts as
 // readable). False for ordinary host memory, and always without CUDA.
@@ -55,8 +55,10 @@ struct StateAllocator {
     return device_visible ? static_cast<T*>(managed_allocate(n * sizeof(T))) : std::allocator<T>{}.allocate(n);
   }
   void deallocate(T* p, std::size_t n) {
-    if (device_visible) managed_free(p, n * sizeof(T));
-    else std::allocator<T>{}.deallocate(p, n);
+    if (device_visible)
+      managed_free(p, n * sizeof(T));
+    else
+      std::allocator<T>{}.deallocate(p, n);
   }
   template <class U>
   void construct(U* p) {
@@ -70,7 +72,9 @@ struct StateAllocator {
     ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
   }
   template <class U>
-  bool operator==(const StateAllocator<U>& o) const { return device_visible == o.device_visible; }
+  bool operator==(const StateAllocator<U>& o) const {
+    return device_visible == o.device_visible;
+  }
 };
 
 // Per-particle state of a solver that may step on the device (structure/tlsph.hpp).
@@ -119,8 +123,8 @@ class LaunchGraph {
 
  private:
   void release();
-  void* stream_ = nullptr;  // cudaStream_t
-  void* graph_ = nullptr;   // cudaGraphExec_t
+  void* stream_ = nullptr;                          // cudaStream_t
+  void* graph_ = nullptr;                           // cudaGraphExec_t
   std::function<void(const Exec&)> host_launches_;  // the debug device's "graph"
 };
 

@@ -2,7 +2,6 @@
 #include <cub/device/device_radix_sort.cuh>
 #include <cub/device/device_reduce.cuh>
 #include <cub/device/device_scan.cuh>
-
 #include <stdexcept>
 #include <string>
 
@@ -12,7 +11,8 @@ namespace isph {
 namespace {
 
 void check(cudaError_t err, const char* what) {
-  if (err != cudaSuccess) throw std::runtime_error(std::string("device neighbour search: ") + what + ": " + cudaGetErrorString(err));
+  if (err != cudaSuccess)
+    throw std::runtime_error(std::string("device neighbour search: ") + what + ": " + cudaGetErrorString(err));
 }
 
 // Fills an output array with 0xFF bytes (index -1) before a stage writes it, so that an element the

@@ -37,7 +37,9 @@ DeviceNeighbourList debug_device_neighbour_list(const DeviceCellList<D>& cells, 
 
 template void DeviceCellList<2>::build_on_debug_device(const Vec<2>*, Index, Real, const Periodicity<2>&);
 template void DeviceCellList<3>::build_on_debug_device(const Vec<3>*, Index, Real, const Periodicity<3>&);
-template DeviceNeighbourList debug_device_neighbour_list<2>(const DeviceCellList<2>&, Index, const int*, const LevelReach&);
-template DeviceNeighbourList debug_device_neighbour_list<3>(const DeviceCellList<3>&, Index, const int*, const LevelReach&);
+template DeviceNeighbourList debug_device_neighbour_list<2>(const DeviceCellList<2>&, Index, const int*,
+                                                            const LevelReach&);
+template DeviceNeighbourList debug_device_neighbour_list<3>(const DeviceCellList<3>&, Index, const int*,
+                                                            const LevelReach&);
 
 }  // namespace isph

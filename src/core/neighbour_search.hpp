@@ -61,10 +61,10 @@ struct CellListView {
   const Index* cell_start;  // cells + 1 offsets into `sorted`
   const Index* sorted;      // particle indices ordered by cell
   const Vec<D>* x;
-  const int* group;         // optional: only pairs with equal group are neighbours
+  const int* group;  // optional: only pairs with equal group are neighbours
   Real radius2;
   Periodicity<D> period;
-  LevelReach levels = {};   // optional: each pair's own reach, at most the radius
+  LevelReach levels = {};  // optional: each pair's own reach, at most the radius
 
   // Calls f(j, r_ij) for every j != i with |r_ij| < radius (and within the pair's reach),
   // r_ij = x_i - x_j (minimum image).

@@ -37,8 +37,8 @@ inline constexpr Index kMinParallelLoop = 2048;
 
 struct Exec {
   Device device = Device::cpu;
-  void* stream = nullptr;  // cuda: the stream (cudaStream_t) launches go to; null: the default stream
-  bool wait = true;        // cuda: wait for each launch to finish (false: the caller synchronizes)
+  void* stream = nullptr;                  // cuda: the stream (cudaStream_t) launches go to; null: the default stream
+  bool wait = true;                        // cuda: wait for each launch to finish (false: the caller synchronizes)
   Index parallel_from = kMinParallelLoop;  // host: the shortest loop run on all threads
 };
 
@@ -117,11 +117,15 @@ void parallel_for_listed(const Exec& exec, Index n, const Index* list, Index cou
 // integers), so that a result does not depend on the thread count, the order or the device.
 struct MaxOf {
   template <class T>
-  ISPH_HD T operator()(T a, T b) const { return a < b ? b : a; }
+  ISPH_HD T operator()(T a, T b) const {
+    return a < b ? b : a;
+  }
 };
 struct MinOf {
   template <class T>
-  ISPH_HD T operator()(T a, T b) const { return b < a ? b : a; }
+  ISPH_HD T operator()(T a, T b) const {
+    return b < a ? b : a;
+  }
 };
 struct IntegerSum {
   template <class T>

@@ -42,17 +42,17 @@ constexpr std::span<const EnumName<MotionLaw>> enum_names(MotionLaw) { return kM
 //                continuous); before the first row the first value holds.
 struct MotionSpec {
   MotionType type = MotionType::none;
-  std::array<double, 3> velocity{};          // constant_velocity [m/s]
-  std::array<double, 3> direction{0, 1, 0};  // translation (unit)
-  std::array<double, 3> pivot{};             // rotation
+  std::array<double, 3> velocity{};           // constant_velocity [m/s]
+  std::array<double, 3> direction{0, 1, 0};   // translation (unit)
+  std::array<double, 3> pivot{};              // rotation
   MotionLaw profile = MotionLaw::polynomial;  // translation, rotation
-  std::vector<double> coefficients;          // polynomial [m or deg, per s^k]
-  double until = 0.0;                        // polynomial [s]
-  double amplitude = 0.0;                    // sine [m or deg]
-  double period = 0.0;                       // sine [s]
-  double phase = 0.0;                        // sine [rad]
-  std::string file;                          // csv: as given, resolved against the case file's folder
-  std::vector<double> times, values;         // csv: the rows, read by the loader
+  std::vector<double> coefficients;           // polynomial [m or deg, per s^k]
+  double until = 0.0;                         // polynomial [s]
+  double amplitude = 0.0;                     // sine [m or deg]
+  double period = 0.0;                        // sine [s]
+  double phase = 0.0;                         // sine [rad]
+  std::string file;                           // csv: as given, resolved against the case file's folder
+  std::vector<double> times, values;          // csv: the rows, read by the loader
   bool operator==(const MotionSpec&) const = default;
 };
 

@@ -58,11 +58,15 @@ ISPH_HD inline Real dot(const Vec<D>& a, const Vec<D>& b) {
   return s;
 }
 template <int D>
-ISPH_HD inline Real norm2(const Vec<D>& a) { return dot(a, a); }
+ISPH_HD inline Real norm2(const Vec<D>& a) {
+  return dot(a, a);
+}
 
 // The spacing of a particle of volume V (its cell's edge), V^(1/D).
 template <int D>
-ISPH_HD inline Real particle_spacing(Real volume) { return pow(volume, 1.0 / D); }
+ISPH_HD inline Real particle_spacing(Real volume) {
+  return pow(volume, 1.0 / D);
+}
 
 // Row-major D x D matrix.
 template <int D>
@@ -151,8 +155,7 @@ ISPH_HD inline Real ddot(const Mat<D>& a, const Mat<D>& b) {
 
 ISPH_HD inline Real determinant(const Mat<2>& a) { return a(0, 0) * a(1, 1) - a(0, 1) * a(1, 0); }
 ISPH_HD inline Real determinant(const Mat<3>& a) {
-  return a(0, 0) * (a(1, 1) * a(2, 2) - a(1, 2) * a(2, 1)) -
-         a(0, 1) * (a(1, 0) * a(2, 2) - a(1, 2) * a(2, 0)) +
+  return a(0, 0) * (a(1, 1) * a(2, 2) - a(1, 2) * a(2, 1)) - a(0, 1) * (a(1, 0) * a(2, 2) - a(1, 2) * a(2, 0)) +
          a(0, 2) * (a(1, 0) * a(2, 1) - a(1, 1) * a(2, 0));
 }
 

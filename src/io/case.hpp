@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "core/enum_names.hpp"
-#include "core/rigid_motion.hpp"     // MotionSpec
+#include "core/rigid_motion.hpp"         // MotionSpec
 #include "kernels/smoothing_kernel.hpp"  // KernelType
-#include "poisson/linear_solver.hpp"  // hypre_available
+#include "poisson/linear_solver.hpp"     // hypre_available
 #include "shifting/shifting_type.hpp"
 #include "structure/structure_options.hpp"
 
@@ -112,14 +112,14 @@ struct ShapeMesh {
 
 struct Shape {
   ShapeType type = ShapeType::rectangle;
-  std::array<double, 3> min{};      // rectangle / box
+  std::array<double, 3> min{};  // rectangle / box
   std::array<double, 3> max{};
-  std::array<double, 3> center{};   // circle / sphere
-  double radius = 0.0;              // circle / sphere / cylinder
-  std::array<double, 3> base{};     // cylinder: the centre of one end
-  std::array<double, 3> axis{};     // cylinder: from base to the other end's centre (its length is the cylinder's)
-  std::string file{};               // stl: the mesh's file (an absolute path once loaded)
-  double scale = 1.0;               // stl: each vertex v becomes scale v + translate
+  std::array<double, 3> center{};  // circle / sphere
+  double radius = 0.0;             // circle / sphere / cylinder
+  std::array<double, 3> base{};    // cylinder: the centre of one end
+  std::array<double, 3> axis{};    // cylinder: from base to the other end's centre (its length is the cylinder's)
+  std::string file{};              // stl: the mesh's file (an absolute path once loaded)
+  double scale = 1.0;              // stl: each vertex v becomes scale v + translate
   std::array<double, 3> translate{};
   ShapeMesh mesh{};              // stl
   std::array<double, 3> apex{};  // wedge (2D): the keel, the lowest point of its outer face
@@ -189,17 +189,17 @@ struct InitialVelocitySpec {
 struct BodySpec {
   std::string name;
   ParticleKind kind = ParticleKind::structure;
-  std::string material;                      // name in the material table
+  std::string material;  // name in the material table
   Shape shape;
-  std::vector<Shape> clamps;                 // particles of this body inside any clamp are fixed
-  double refinement = 1.0;                   // structures: the case's dx over the body's spacing (>= 1; s = dx / refinement)
-  double dx = 0.0;                           // structures: the body's own spacing [m] instead (0: from refinement)
-  std::array<double, 3> lattice_origin{};    // lattice points at origin + (i + offset) s
+  std::vector<Shape> clamps;  // particles of this body inside any clamp are fixed
+  double refinement = 1.0;    // structures: the case's dx over the body's spacing (>= 1; s = dx / refinement)
+  double dx = 0.0;            // structures: the body's own spacing [m] instead (0: from refinement)
+  std::array<double, 3> lattice_origin{};  // lattice points at origin + (i + offset) s
   // Per axis, in units of s, in [0, 1): 1/2 puts the particles at cell centres, so that the shape's
   // faces lie s/2 beyond its outer particles; 0 puts particle rows on the faces through the origin.
   std::array<double, 3> lattice_offset{0.5, 0.5, 0.5};
   InitialVelocitySpec initial_velocity;
-  MotionSpec motion;                         // walls; structures: their clamps
+  MotionSpec motion;  // walls; structures: their clamps
   double spacing(double case_dx) const { return dx > 0 ? dx : case_dx / refinement; }
   bool operator==(const BodySpec&) const = default;
 };
@@ -211,12 +211,12 @@ struct BodySpec {
 struct LoadSpec {
   LoadType type = LoadType::edge;
   std::string body;
-  Shape region;                              // edge, traction
-  std::array<double, 3> point{};             // point
-  std::array<double, 3> force{};             // edge/point: total force [N per unit depth in 2D]
-  std::array<double, 3> traction{};          // traction: force per unit area of the loaded face [Pa]
-  std::array<double, 3> acceleration{};      // body: [m/s^2]
-  double ramp_time = 0.0;                    // [s]
+  Shape region;                          // edge, traction
+  std::array<double, 3> point{};         // point
+  std::array<double, 3> force{};         // edge/point: total force [N per unit depth in 2D]
+  std::array<double, 3> traction{};      // traction: force per unit area of the loaded face [Pa]
+  std::array<double, 3> acceleration{};  // body: [m/s^2]
+  double ramp_time = 0.0;                // [s]
   bool operator==(const LoadSpec&) const = default;
 };
 
@@ -244,8 +244,8 @@ struct ProbeSpec {
 
 struct KernelSpec {
   KernelType type = KernelType::cubic_spline;
-  double h_factor = 1.2;                     // h = h_factor * dx (seed 001 uses 1.2)
-  bool correction = true;                    // kernel gradient correction (shape tensor K)
+  double h_factor = 1.2;   // h = h_factor * dx (seed 001 uses 1.2)
+  bool correction = true;  // kernel gradient correction (shape tensor K)
   bool operator==(const KernelSpec&) const = default;
 };
 
@@ -253,9 +253,9 @@ struct StructureSpec {
   StructureIntegrator integrator = StructureIntegrator::rk4;
   StructureGradient gradient = StructureGradient::linear;       // pair gradients exact for linear or quadratic fields
   StructureQuadrature quadrature = StructureQuadrature::point;  // the strain energy at the particle or over its cell
-  double courant = 0.5;                      // dt = courant * h / c_p (c_p: P-wave speed)
-  double damping = 0.0;                      // mass-proportional damping rate [1/s]
-  double hourglass = 5.0;                    // hourglass control coefficient alpha (0 = off); docs/VALIDATION.md
+  double courant = 0.5;                                         // dt = courant * h / c_p (c_p: P-wave speed)
+  double damping = 0.0;                                         // mass-proportional damping rate [1/s]
+  double hourglass = 5.0;  // hourglass control coefficient alpha (0 = off); docs/VALIDATION.md
   bool operator==(const StructureSpec&) const = default;
 };
 
@@ -273,20 +273,20 @@ struct PpeSolverSpec {
   KrylovMethod method = KrylovMethod::bicgstab;  // gmres: eigen and hypre only
   PreconditionerType preconditioner =            // one of solver_preconditioners(backend)
       hypre_available() ? PreconditionerType::boomeramg : PreconditionerType::ilu;
-  double tolerance = 1e-8;                   // relative residual
+  double tolerance = 1e-8;  // relative residual
   int max_iterations = 1000;
   FallbackSolver fallback =  // a second backend tried after a failed solve
       hypre_available() ? FallbackSolver::eigen : FallbackSolver::none;
-  int preconditioner_reuse = 0;              // steps a preconditioner serves the next steps' matrices while
-                                             // the particles keep their order (0: a new one every step)
+  int preconditioner_reuse = 0;  // steps a preconditioner serves the next steps' matrices while
+                                 // the particles keep their order (0: a new one every step)
   bool operator==(const PpeSolverSpec&) const = default;
 };
 
 struct ShiftingSpec {
-  ShiftingType type = ShiftingType::ops;     // xu: Xu/Lind, Eqs. 21-23; ops: + Eqs. 24-26 at the surface
-  double coefficient = 0.05;                 // C of Eq. 21, in [0.01, 0.1]
-  double max_fraction = 0.2;                 // cap on |dr| as a fraction of h (Lind et al. 2012)
-  bool taylor_correction = true;             // Eqs. 20, 31-32
+  ShiftingType type = ShiftingType::ops;  // xu: Xu/Lind, Eqs. 21-23; ops: + Eqs. 24-26 at the surface
+  double coefficient = 0.05;              // C of Eq. 21, in [0.01, 0.1]
+  double max_fraction = 0.2;              // cap on |dr| as a fraction of h (Lind et al. 2012)
+  bool taylor_correction = true;          // Eqs. 20, 31-32
   bool operator==(const ShiftingSpec&) const = default;
 };
 
@@ -300,10 +300,10 @@ struct CollisionSpec {
 // The weakly compressible comparator (seed 002; sim/wcsph.hpp).
 struct WcsphSpec {
   WcsphTimeStepping time_stepping = WcsphTimeStepping::dual_criteria;  // dual: Eqs. 9-15
-  double advection_courant = 0.25;           // Eq. 9: CFL_ad
-  double acoustic_courant = 0.6;             // Eq. 10: CFL_ac; default 0.6 (dual_criteria) or 0.25 (single_criterion)
-  double sound_speed = 0.0;                  // c of Eq. 2 [m/s]; 0: 10 U_max, U_max = sqrt(2) x the reference velocity
-  double riemann_limiter = 3.0;              // eta of the low-dissipation limiter beta = min(eta max(U_L - U_R, 0)/c, 1)
+  double advection_courant = 0.25;                                     // Eq. 9: CFL_ad
+  double acoustic_courant = 0.6;  // Eq. 10: CFL_ac; default 0.6 (dual_criteria) or 0.25 (single_criterion)
+  double sound_speed = 0.0;       // c of Eq. 2 [m/s]; 0: 10 U_max, U_max = sqrt(2) x the reference velocity
+  double riemann_limiter = 3.0;   // eta of the low-dissipation limiter beta = min(eta max(U_L - U_R, 0)/c, 1)
   bool operator==(const WcsphSpec&) const = default;
 };
 
@@ -334,19 +334,20 @@ struct FluidSpec {
 
 // The fluid-structure coupling (seed 001 §2.3), used when a case has fluid and structure bodies.
 struct CouplingSpec {
-  int substeps = 0;                          // structure steps per fluid step; 0: from the structure's stability limit
-  bool fsi_shifting = true;                  // the FSI shifting layer beside structures (Eqs. 27-30)
+  int substeps = 0;          // structure steps per fluid step; 0: from the structure's stability limit
+  bool fsi_shifting = true;  // the FSI shifting layer beside structures (Eqs. 27-30)
   FsiLayerLaw fsi_shifting_law = FsiLayerLaw::literal;  // what its Eq. 27 relocates
-  double tolerance = 1e-3;                   // interface iterations: relative change of the structure's acceleration
-  int max_iterations = 30;                   // interface iterations per fluid step (1: explicit, staggered)
-  double first_ppe_tolerance = 0.0;          // PPE tolerance of a step's first interface iteration (0: the PPE's)
-  int reuse_steps = 8;                       // quasi-Newton: steps whose iterations are reused (0: none)
+  double tolerance = 1e-3;           // interface iterations: relative change of the structure's acceleration
+  int max_iterations = 30;           // interface iterations per fluid step (1: explicit, staggered)
+  double first_ppe_tolerance = 0.0;  // PPE tolerance of a step's first interface iteration (0: the PPE's)
+  int reuse_steps = 8;               // quasi-Newton: steps whose iterations are reused (0: none)
   InteractionForce interaction_force =
       InteractionForce::pairwise;  // gradient: Eq. 48 literally (structure/interaction.hpp)
   SubstepInteraction substep_interaction =
-      SubstepInteraction::held;              // held: alpha of the step's end; interpolated: from the last step's
-  bool wall_contact = true;                  // structure particles overlapping wall particles are pushed out (sim/coupling.hpp)
-  bool implicit_added_mass = true;           // the structure's inertia in its PPE rows (sim/coupling.hpp); false: a_s from the iterations alone
+      SubstepInteraction::held;  // held: alpha of the step's end; interpolated: from the last step's
+  bool wall_contact = true;      // structure particles overlapping wall particles are pushed out (sim/coupling.hpp)
+  bool implicit_added_mass =
+      true;  // the structure's inertia in its PPE rows (sim/coupling.hpp); false: a_s from the iterations alone
   bool operator==(const CouplingSpec&) const = default;
 };
 
@@ -361,20 +362,20 @@ struct PeriodicSpec {
 };
 
 struct OutputSpec {
-  double interval = 0.0;                     // probes and energies every `interval` [s] (0: every 100 steps)
-  double snapshot_interval = 0.0;            // HDF5 snapshot every ... [s] (0: first and last only)
+  double interval = 0.0;           // probes and energies every `interval` [s] (0: every 100 steps)
+  double snapshot_interval = 0.0;  // HDF5 snapshot every ... [s] (0: first and last only)
   bool snapshots = true;
   bool operator==(const OutputSpec&) const = default;
 };
 
 struct StagesSpec {
-  bool structure = true;                     // run TLSPH (needs structure bodies)
-  bool fluid = false;                        // run ISPH (needs fluid bodies)
+  bool structure = true;  // run TLSPH (needs structure bodies)
+  bool fluid = false;     // run ISPH (needs fluid bodies)
   bool operator==(const StagesSpec&) const = default;
 };
 
 struct CaseSpec {
-  std::string name;                          // default: file stem
+  std::string name;  // default: file stem
   std::string source_path;
   int dimension = 2;
   double dx = 0.0;
@@ -391,7 +392,7 @@ struct CaseSpec {
   std::vector<BodySpec> bodies;
   std::vector<LoadSpec> loads;
   std::vector<ProbeSpec> probes;
-  std::string resolved_toml;                 // the configuration as run (written to case.resolved.toml)
+  std::string resolved_toml;  // the configuration as run (written to case.resolved.toml)
   bool operator==(const CaseSpec&) const = default;
 };
 

@@ -56,20 +56,26 @@ std::vector<std::string> split(const std::string& s, char separator) {
   return parts;
 }
 
-std::string index_path(const std::string& path, std::size_t index) {
-  return path + "[" + std::to_string(index) + "]";
-}
+std::string index_path(const std::string& path, std::size_t index) { return path + "[" + std::to_string(index) + "]"; }
 
 std::string describe(const toml::value& v) {
   switch (v.type()) {
-    case toml::value_t::boolean: return "a boolean";
-    case toml::value_t::integer: return "an integer";
-    case toml::value_t::floating: return "a float";
-    case toml::value_t::string: return "a string";
-    case toml::value_t::array: return "an array";
-    case toml::value_t::table: return "a table";
-    case toml::value_t::empty: return "nothing";
-    default: return "a date or time";
+    case toml::value_t::boolean:
+      return "a boolean";
+    case toml::value_t::integer:
+      return "an integer";
+    case toml::value_t::floating:
+      return "a float";
+    case toml::value_t::string:
+      return "a string";
+    case toml::value_t::array:
+      return "an array";
+    case toml::value_t::table:
+      return "a table";
+    case toml::value_t::empty:
+      return "nothing";
+    default:
+      return "a date or time";
   }
 }
 
@@ -100,15 +106,14 @@ bool convert(const toml::value& v, const std::string& path, Context& ctx, Vec3& 
 template <class T>
 bool convert(const toml::value& v, const std::string& path, Context& ctx, std::vector<T>& out);
 template <class T>
-  requires requires(Table& t, T& spec) { read_fields(t, spec); }
+requires requires(Table& t, T& spec) { read_fields(t, spec); }
 bool convert(const toml::value& v, const std::string& path, Context& ctx, T& out);
 
 // One TOML table being read. Keys are taken by name; when the reader goes away, every key that
 // nobody asked for is reported as unknown.
 class Table {
  public:
-  Table(const toml::table& table, std::string path, Context& ctx)
-      : table_(table), path_(std::move(path)), ctx_(ctx) {}
+  Table(const toml::table& table, std::string path, Context& ctx) : table_(table), path_(std::move(path)), ctx_(ctx) {}
   Table(const Table&) = delete;
   Table& operator=(const Table&) = delete;
   ~Table() { report_unknown(); }
@@ -198,8 +203,7 @@ bool convert(const toml::value& v, const std::string& path, Context& ctx, Vec3& 
   }
   Vec3 result = out;
   bool ok = true;
-  for (std::size_t i = 0; i < items.size(); ++i)
-    ok = convert(items[i], index_path(path, i), ctx, result[i]) && ok;
+  for (std::size_t i = 0; i < items.size(); ++i) ok = convert(items[i], index_path(path, i), ctx, result[i]) && ok;
   if (ok) out = result;
   return ok;
 }
@@ -212,15 +216,14 @@ bool convert(const toml::value& v, const std::string& path, Context& ctx, std::v
   const auto& items = v.as_array();
   std::vector<T> result(items.size());
   bool ok = true;
-  for (std::size_t i = 0; i < items.size(); ++i)
-    ok = convert(items[i], index_path(path, i), ctx, result[i]) && ok;
+  for (std::size_t i = 0; i < items.size(); ++i) ok = convert(items[i], index_path(path, i), ctx, result[i]) && ok;
   out = std::move(result);
   return ok;
 }
 
 // Every spec with a read_fields overload is read from a TOML table (or inline table).
 template <class T>
-  requires requires(Table& t, T& spec) { read_fields(t, spec); }
+requires requires(Table& t, T& spec) { read_fields(t, spec); }
 bool convert(const toml::value& v, const std::string& path, Context& ctx, T& out) {
   if (!v.is_table()) return mismatch(v, "a table", path, ctx);
   Table table(v.as_table(), path, ctx);
@@ -540,8 +543,8 @@ void check_reference(const std::string& name, const std::vector<Spec>& items, co
 }
 
 // A structure needs an elastic material, a fluid a newtonian one.
-void check_material_model(const BodySpec& b, const std::vector<MaterialSpec>& materials,
-                          const std::string& path, Context& ctx) {
+void check_material_model(const BodySpec& b, const std::vector<MaterialSpec>& materials, const std::string& path,
+                          Context& ctx) {
   if (b.kind == ParticleKind::wall || ctx.unknown_model.count(b.material)) return;
   const bool fluid = b.kind == ParticleKind::fluid;
   for (const auto& m : materials) {
@@ -567,8 +570,7 @@ void check_stages(CaseSpec& c, Context& ctx) {
   const std::string fluid = first_body(c.bodies, ParticleKind::fluid);
   const std::string structure = first_body(c.bodies, ParticleKind::structure);
   if (structure.empty() && c.stages.fluid) c.stages.structure = false;
-  if (c.stages.fluid && fluid.empty())
-    ctx.problem("stages.fluid", "needs at least one body of kind = \"fluid\"");
+  if (c.stages.fluid && fluid.empty()) ctx.problem("stages.fluid", "needs at least one body of kind = \"fluid\"");
   if (!c.stages.fluid && !fluid.empty())
     ctx.problem("stages.fluid", "the case has fluid bodies (" + fluid + "); set stages.fluid = true");
   if (c.stages.structure && structure.empty())
@@ -576,8 +578,7 @@ void check_stages(CaseSpec& c, Context& ctx) {
                 "needs at least one body of kind = \"structure\" (or set stages.fluid = true "
                 "for a fluid case)");
   if (!c.stages.structure && !structure.empty())
-    ctx.problem("stages.structure",
-                "the case has structure bodies (" + structure + "); set stages.structure = true");
+    ctx.problem("stages.structure", "the case has structure bodies (" + structure + "); set stages.structure = true");
   if (!c.stages.structure && !c.stages.fluid)
     ctx.problem("stages", "nothing to run: set stages.structure or stages.fluid to true");
   for (std::size_t i = 0; i < c.probes.size(); ++i) {
@@ -865,8 +866,7 @@ CaseSpec load_case(const std::string& path, const std::vector<std::string>& over
   toml::value doc = parse_file(path);
   Context ctx(path);
   for (const auto& text : overrides)
-    if (const auto problem = apply_override(doc, text))
-      ctx.problems.push_back("--set " + text + ": " + *problem);
+    if (const auto problem = apply_override(doc, text)) ctx.problems.push_back("--set " + text + ": " + *problem);
 
   CaseSpec c;
   c.source_path = path;

@@ -60,7 +60,7 @@ std::string toml_float(double x);               // with ".0" where it would read
 std::string toml_string(const std::string& s);  // a TOML basic string
 // `must be one of "a", "b"`: the allowed names of a choice, for error messages.
 std::string one_of(const std::vector<std::string>& allowed);
-std::string shortest_number(double x);          // the shortest text that reads back as the same double
+std::string shortest_number(double x);  // the shortest text that reads back as the same double
 
 // The markdown table of a section's keys (docs/CASES.md).
 std::string key_reference(const std::string& section);

@@ -50,13 +50,27 @@ std::string json_quote(const std::string& text) {
   std::string out = "\"";
   for (const char c : text) {
     switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\b': out += "\\b"; break;
-      case '\f': out += "\\f"; break;
-      case '\n': out += "\\n"; break;
-      case '\r': out += "\\r"; break;
-      case '\t': out += "\\t"; break;
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\b':
+        out += "\\b";
+        break;
+      case '\f':
+        out += "\\f";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\r':
+        out += "\\r";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
       default:
         if (static_cast<unsigned char>(c) < 0x20) {
           char escaped[8];
@@ -74,18 +88,16 @@ using JsonEntries = std::vector<std::pair<std::string, std::string>>;
 
 // Sets `key` to a serialised value or, when `object` is given, to a nested object. A new key is
 // appended; an existing key keeps its position. objects[k] belongs to the k-th object entry.
-void json_assign(JsonEntries& entries, std::vector<bool>& is_object,
-                 std::vector<JsonObject>& objects, const std::string& key,
-                 std::string serialised, std::optional<JsonObject> object) {
-  const auto found = std::find_if(entries.begin(), entries.end(),
-                                  [&](const auto& entry) { return entry.first == key; });
+void json_assign(JsonEntries& entries, std::vector<bool>& is_object, std::vector<JsonObject>& objects,
+                 const std::string& key, std::string serialised, std::optional<JsonObject> object) {
+  const auto found =
+      std::find_if(entries.begin(), entries.end(), [&](const auto& entry) { return entry.first == key; });
   const auto i = static_cast<std::size_t>(found - entries.begin());
   if (i == entries.size()) {
     entries.emplace_back(key, std::string());
     is_object.push_back(false);
   }
-  const auto slot =
-      objects.begin() + std::count(is_object.begin(), is_object.begin() + i, true);
+  const auto slot = objects.begin() + std::count(is_object.begin(), is_object.begin() + i, true);
   if (is_object[i] && object) {
     *slot = std::move(*object);
   } else if (is_object[i]) {
@@ -121,16 +133,15 @@ CsvTable::CsvTable(std::string path, std::vector<std::string> columns)
     : path_(std::move(path)), columns_(std::move(columns)) {
   for (const auto& name : columns_) {
     if (name.find_first_of(",\"\r\n") != std::string::npos) {
-      throw std::invalid_argument("CSV column name '" + name +
-                                  "' contains a comma, quote or line break");
+      throw std::invalid_argument("CSV column name '" + name + "' contains a comma, quote or line break");
     }
   }
 }
 
 void CsvTable::add_row(const std::vector<double>& values) {
   if (values.size() != columns_.size()) {
-    throw std::invalid_argument("CSV row for " + path_ + " has " + std::to_string(values.size()) +
-                                " values for " + std::to_string(columns_.size()) + " columns");
+    throw std::invalid_argument("CSV row for " + path_ + " has " + std::to_string(values.size()) + " values for " +
+                                std::to_string(columns_.size()) + " columns");
   }
   rows_.push_back(values);
 }
@@ -181,8 +192,8 @@ void CsvTable::flush() const {
 // ---------------------------------------------------------------------------------------------
 
 JsonObject& JsonObject::set(const std::string& key, double value) {
-  json_assign(entries_, is_object_, objects_, key,
-              std::isfinite(value) ? format_number(value, 12) : "null", std::nullopt);
+  json_assign(entries_, is_object_, objects_, key, std::isfinite(value) ? format_number(value, 12) : "null",
+              std::nullopt);
   return *this;
 }
 
@@ -255,16 +266,14 @@ class H5Handle {
   Closer closer_;
 };
 
-void write_dataset(hid_t file, const std::string& path, const std::string& name,
-                   const std::vector<hsize_t>& dims, const double* data) {
+void write_dataset(hid_t file, const std::string& path, const std::string& name, const std::vector<hsize_t>& dims,
+                   const double* data) {
   const std::string where = "dataset " + name + " in " + path;
   H5Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose,
                  "create the dataspace of " + where);
-  H5Handle dataset(H5Dcreate2(file, name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT,
-                              H5P_DEFAULT, H5P_DEFAULT),
+  H5Handle dataset(H5Dcreate2(file, name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
                    H5Dclose, "create " + where);
-  if (dims.front() > 0 &&
-      H5Dwrite(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0) {
+  if (dims.front() > 0 && H5Dwrite(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0) {
     throw std::runtime_error("HDF5: cannot write " + where);
   }
   dataset.close("close " + where);
@@ -272,22 +281,18 @@ void write_dataset(hid_t file, const std::string& path, const std::string& name,
 
 void write_attribute(hid_t file, const std::string& path, const std::string& name, double value) {
   H5Handle scalar(H5Screate(H5S_SCALAR), H5Sclose, "create a scalar dataspace");
-  H5Handle attribute(
-      H5Acreate2(file, name.c_str(), H5T_IEEE_F64LE, scalar.get(), H5P_DEFAULT, H5P_DEFAULT),
-      H5Aclose, "create attribute " + name + " in " + path);
+  H5Handle attribute(H5Acreate2(file, name.c_str(), H5T_IEEE_F64LE, scalar.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
+                     "create attribute " + name + " in " + path);
   if (H5Awrite(attribute.get(), H5T_NATIVE_DOUBLE, &value) < 0) {
     throw std::runtime_error("HDF5: cannot write attribute " + name + " in " + path);
   }
   attribute.close("close attribute " + name + " in " + path);
 }
 
-void write_snapshot_file(const std::string& path, double time,
-                         const std::vector<double>& positions,
-                         const std::vector<SnapshotField>& fields,
-                         const SnapshotAttributes& attributes) {
+void write_snapshot_file(const std::string& path, double time, const std::vector<double>& positions,
+                         const std::vector<SnapshotField>& fields, const SnapshotAttributes& attributes) {
   const auto n = static_cast<hsize_t>(positions.size() / 3);
-  H5Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
-                "create " + path);
+  H5Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, "create " + path);
   write_dataset(file.get(), path, "position", {n, 3}, positions.data());
   for (const auto& field : fields) {
     std::vector<hsize_t> dims{n};
@@ -303,31 +308,39 @@ std::string xml_escape(const std::string& text) {
   std::string out;
   for (const char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
 }
 
-std::string hdf_data_item(const std::string& dimensions, const std::string& file,
-                          const std::string& dataset) {
-  return "<DataItem Format=\"HDF\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"" +
-         dimensions + "\">" + xml_escape(file + ":/" + dataset) + "</DataItem>";
+std::string hdf_data_item(const std::string& dimensions, const std::string& file, const std::string& dataset) {
+  return "<DataItem Format=\"HDF\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"" + dimensions + "\">" +
+         xml_escape(file + ":/" + dataset) + "</DataItem>";
 }
 
 }  // namespace
 #endif
 
-SnapshotWriter::SnapshotWriter(std::string dir, int dimension)
-    : dir_(std::move(dir)), dimension_(dimension) {
+SnapshotWriter::SnapshotWriter(std::string dir, int dimension) : dir_(std::move(dir)), dimension_(dimension) {
   if (dimension_ != 2 && dimension_ != 3) {
-    throw std::invalid_argument("SnapshotWriter: dimension must be 2 or 3, not " +
-                                std::to_string(dimension_));
+    throw std::invalid_argument("SnapshotWriter: dimension must be 2 or 3, not " + std::to_string(dimension_));
   }
 }
 
@@ -350,14 +363,12 @@ void SnapshotWriter::write(double time, const std::vector<std::array<double, 3>>
         field.name.find('/') != std::string::npos) {
       throw std::invalid_argument("snapshot field name '" + field.name + "' is not allowed");
     }
-    if (std::any_of(layout.begin(), layout.end(),
-                    [&](const auto& entry) { return entry.first == field.name; })) {
+    if (std::any_of(layout.begin(), layout.end(), [&](const auto& entry) { return entry.first == field.name; })) {
       throw std::invalid_argument("snapshot field '" + field.name + "' is given twice");
     }
     if (field.components < 1 || field.data.size() != n * field.components) {
-      throw std::invalid_argument("snapshot field '" + field.name + "' has " +
-                                  std::to_string(field.data.size()) + " values for " +
-                                  std::to_string(n) + " particles x " +
+      throw std::invalid_argument("snapshot field '" + field.name + "' has " + std::to_string(field.data.size()) +
+                                  " values for " + std::to_string(n) + " particles x " +
                                   std::to_string(field.components) + " components");
     }
     layout.emplace_back(field.name, field.components);
@@ -400,17 +411,14 @@ void SnapshotWriter::write(double time, const std::vector<std::array<double, 3>>
     const std::string grid = files_[s].substr(0, files_[s].size() - 3);  // without ".h5"
     xmf += "   <Grid Name=\"" + grid + "\" GridType=\"Uniform\">\n";
     xmf += "    <Time Value=\"" + format_number(times_[s], 15) + "\"/>\n";
-    xmf += "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" + points +
-           "\" NodesPerElement=\"1\"/>\n";
+    xmf += "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" + points + "\" NodesPerElement=\"1\"/>\n";
     xmf += "    <Geometry GeometryType=\"XYZ\">\n";
     xmf += "     " + hdf_data_item(points + " 3", files_[s], "position") + "\n";
     xmf += "    </Geometry>\n";
     for (const auto& [field, components] : layouts_[s]) {
       const char* type = components == 1 ? "Scalar" : components == 3 ? "Vector" : "Matrix";
-      const std::string dims =
-          components == 1 ? points : points + " " + std::to_string(components);
-      xmf += "    <Attribute Name=\"" + xml_escape(field) + "\" AttributeType=\"" + type +
-             "\" Center=\"Node\">\n";
+      const std::string dims = components == 1 ? points : points + " " + std::to_string(components);
+      xmf += "    <Attribute Name=\"" + xml_escape(field) + "\" AttributeType=\"" + type + "\" Center=\"Node\">\n";
       xmf += "     " + hdf_data_item(dims, files_[s], field) + "\n";
       xmf += "    </Attribute>\n";
     }
@@ -423,8 +431,8 @@ void SnapshotWriter::write(double time, const std::vector<std::array<double, 3>>
   write_file_atomically((snapshots / "snapshots.xmf").string(), xmf);
 }
 #else
-void SnapshotWriter::write(double, const std::vector<std::array<double, 3>>&,
-                           const std::vector<SnapshotField>&, const SnapshotAttributes&) {}
+void SnapshotWriter::write(double, const std::vector<std::array<double, 3>>&, const std::vector<SnapshotField>&,
+                           const SnapshotAttributes&) {}
 #endif
 
 std::size_t SnapshotData::size() const { return field("position").data.size() / 3; }
@@ -489,8 +497,7 @@ SnapshotData read_snapshot(const std::string& path) {
     if (rank < 1 || rank > 2) throw std::runtime_error("HDF5: " + where + " has rank " + std::to_string(rank));
     SnapshotField field{name, static_cast<int>(rank == 2 ? dims[1] : 1),
                         std::vector<double>(static_cast<std::size_t>(dims[0] * (rank == 2 ? dims[1] : 1)))};
-    if (dims[0] > 0 &&
-        H5Dread(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, field.data.data()) < 0)
+    if (dims[0] > 0 && H5Dread(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, field.data.data()) < 0)
       throw std::runtime_error("HDF5: cannot read " + where);
     out.fields.emplace(name, std::move(field));
   }

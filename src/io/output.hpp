@@ -74,8 +74,8 @@ class SnapshotWriter {
   // Writes dir/snapshots/snapshot_NNNNN.h5 with dataset "position" (N x 3, z = 0 in 2D), one
   // dataset per field and the attributes "time" and `attributes`, then rewrites
   // dir/snapshots/snapshots.xmf listing every snapshot so far.
-  void write(double time, const std::vector<std::array<double, 3>>& positions,
-             const std::vector<SnapshotField>& fields, const SnapshotAttributes& attributes = {});
+  void write(double time, const std::vector<std::array<double, 3>>& positions, const std::vector<SnapshotField>& fields,
+             const SnapshotAttributes& attributes = {});
   int count() const { return static_cast<int>(times_.size()); }
 
  private:

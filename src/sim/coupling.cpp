@@ -84,9 +84,10 @@ FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid
     parallel_for(exec_, n, CopyElements<Vec<D>>{solver_.position().data(), x_old_.data()});
     fluid.structure_row_directions(row_direction_);
     solver_.own_acceleration(t, own_acceleration_);
-    parallel_for(exec_, n, ChordPrediction<D>{solver_.velocity().data(), v_mean_.data(), own_acceleration_.data(),
-                                              has_last_interaction_ ? last_interaction_.data() : nullptr,
-                                              solver_.fixed().data(), 1.0 / dt, 0.5 - beta, a_guess_.data()});
+    parallel_for(exec_, n,
+                 ChordPrediction<D>{solver_.velocity().data(), v_mean_.data(), own_acceleration_.data(),
+                                    has_last_interaction_ ? last_interaction_.data() : nullptr, solver_.fixed().data(),
+                                    1.0 / dt, 0.5 - beta, a_guess_.data()});
     x = along(a_guess_, row_direction_);
     for (Index s = 0; s < n; ++s) wet += norm2(row_direction_[s]) > 0;
   });
@@ -118,11 +119,13 @@ FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid
       count = substep(t, dt, work,
                       ramp ? InteractionSchedule<D>{.from = last_interaction_.data(), .to = interaction_.data()}
                            : InteractionSchedule<D>{});
-      parallel_for(exec_, n, ChordMotion<D>{solver_.position().data(), x_old_.data(), v_mean_.data(), 1.0 / dt,
-                                            v_new_.data(), a_new_.data()});
+      parallel_for(exec_, n,
+                   ChordMotion<D>{solver_.position().data(), x_old_.data(), v_mean_.data(), 1.0 / dt, v_new_.data(),
+                                  a_new_.data()});
       scale = along(a_new_, row_direction_).norm();
       if (beta > 0)
-        parallel_for(exec_, n, PressureShareRemoved<D>{interaction_.data(), solver_.fixed().data(), beta, a_new_.data()});
+        parallel_for(exec_, n,
+                     PressureShareRemoved<D>{interaction_.data(), solver_.fixed().data(), beta, a_new_.data()});
       hx = along(a_new_, row_direction_);
     });
     const Real reference = std::max(scale, floor);
@@ -134,7 +137,7 @@ FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid
   if (!converged && spec_.max_iterations > 1) ++unconverged_;
   residual_sum_ += residual;
   max_residual_ = std::max(max_residual_, residual);
-  a_guess_.swap(a_new_);  // the next step starts from this step's acceleration
+  a_guess_.swap(a_new_);                 // the next step starts from this step's acceleration
   last_interaction_.swap(interaction_);  // interaction_ is set afresh before it is read again
   has_last_interaction_ = true;
 
@@ -168,7 +171,8 @@ void StructureCoupling<D>::explicit_step(Real t, Real dt, WcsphSolver<D>& fluid,
     count = substep(t, dt, work,
                     {.to = interaction_.data(), .impedance = impedance_.data(), .reference_velocity = v_mean_.data()});
     solver_.update_stress();
-    parallel_for(exec_, n, ChordMotion<D>{solver_.position().data(), x_old_.data(), nullptr, 1.0 / dt, v_new_.data(), nullptr});
+    parallel_for(exec_, n,
+                 ChordMotion<D>{solver_.position().data(), x_old_.data(), nullptr, 1.0 / dt, v_new_.data(), nullptr});
     fluid.particles().move_structure(solver_.position(), v_new_, solver_.deformation_gradient());
     v_mean_.swap(v_new_);  // the velocity the fluid's next force evaluation sees
   });
@@ -211,8 +215,8 @@ void StructureCoupling<D>::restore_quasi_newton(const SnapshotData& snapshot, co
   const auto count = snapshot.attributes.find("interface_column_steps");
   if (field == snapshot.fields.end() || count == snapshot.attributes.end()) return;
   const auto c = static_cast<std::size_t>(field->second.components / 2);
-  std::vector<InterfaceQuasiNewton::Column> columns(c, {Eigen::VectorXd::Zero(solver_.size()),
-                                                        Eigen::VectorXd::Zero(solver_.size())});
+  std::vector<InterfaceQuasiNewton::Column> columns(
+      c, {Eigen::VectorXd::Zero(solver_.size()), Eigen::VectorXd::Zero(solver_.size())});
   for (Index a = 0; a < fluid.size(); ++a) {
     const Index s = fluid.structure_index[a];
     if (s < 0) continue;
@@ -225,7 +229,8 @@ void StructureCoupling<D>::restore_quasi_newton(const SnapshotData& snapshot, co
   std::vector<std::vector<InterfaceQuasiNewton::Column>> steps(static_cast<std::size_t>(count->second));
   std::size_t next = 0;
   for (std::size_t j = 0; j < steps.size(); ++j) {
-    const auto of_step = static_cast<std::size_t>(snapshot.attributes.at("interface_columns_of_step_" + std::to_string(j)));
+    const auto of_step =
+        static_cast<std::size_t>(snapshot.attributes.at("interface_columns_of_step_" + std::to_string(j)));
     for (std::size_t k = 0; k < of_step && next < c; ++k) steps[j].push_back(std::move(columns[next++]));
   }
   quasi_newton_.set_history(std::move(steps));
@@ -280,7 +285,8 @@ void StructureCoupling<D>::add_snapshot_attributes(SnapshotAttributes& attribute
 
 template <int D>
 void StructureCoupling<D>::set_interaction() {
-  parallel_for(exec_, solver_.size(), InteractionAcceleration<D>{force_density_.data(), density_.data(), interaction_.data()});
+  parallel_for(exec_, solver_.size(),
+               InteractionAcceleration<D>{force_density_.data(), density_.data(), interaction_.data()});
   solver_.set_interaction(interaction_);
 }
 
@@ -324,7 +330,8 @@ void StructureCoupling<D>::record_contact(ParticleSet<D>& fluid, PhaseTimer& tim
 template <int D>
 JsonObject StructureCoupling<D>::summary() const {
   JsonObject mean_force;
-  for (int d = 0; d < D; ++d) mean_force.set(d == 0 ? "fx" : d == 1 ? "fy" : "fz", steps_ > 0 ? force_sum_[d] / steps_ : 0.0);
+  for (int d = 0; d < D; ++d)
+    mean_force.set(d == 0 ? "fx" : d == 1 ? "fy" : "fz", steps_ > 0 ? force_sum_[d] / steps_ : 0.0);
   JsonObject o;
   o.set("substeps_mode", spec_.substeps > 0 ? "fixed" : "stability_limit")
       .set("structure_stable_dt", stable_dt_)

@@ -149,7 +149,8 @@ class StructureCoupling {
   // The step's totals for summary(): interaction work, force, substeps, interface iterations.
   void account_step(Real work, const Vec<D>& force, int count, int iterations);
   // The quasi-Newton columns of a snapshot (row: the snapshot's row of each stable id).
-  void restore_quasi_newton(const SnapshotData& snapshot, const ParticleSet<D>& fluid, const std::vector<long long>& row);
+  void restore_quasi_newton(const SnapshotData& snapshot, const ParticleSet<D>& fluid,
+                            const std::vector<long long>& row);
 
   Exec exec_;  // the structure's device, waiting for each launch
   TlsphSolver<D> solver_;
@@ -158,8 +159,8 @@ class StructureCoupling {
   StateVector<Vec<D>> force_density_, interaction_, a_guess_, a_new_, x_old_, v_new_, v_mean_;
   StateVector<Vec<D>> row_direction_, a_rows_;  // each structure row's direction, and the iterate along it
   StateVector<Vec<D>> own_acceleration_;        // the structure's own acceleration at a step's start (ChordPrediction)
-  StateVector<Vec<D>> last_interaction_;  // alpha^n (interpolated)
-  StateVector<Mat<D>> impedance_;         // the fluid's Gamma_s = Z_s / rho_s (explicit_step)
+  StateVector<Vec<D>> last_interaction_;        // alpha^n (interpolated)
+  StateVector<Mat<D>> impedance_;               // the fluid's Gamma_s = Z_s / rho_s (explicit_step)
   bool interpolate_;
   bool has_last_interaction_ = false;
   StateVector<Real> density_, inverse_density_;
@@ -167,8 +168,8 @@ class StructureCoupling {
   long long steps_ = 0, substeps_ = 0, iterations_ = 0, unconverged_ = 0;
   int max_substeps_ = 0, max_iterations_seen_ = 0;
   Real residual_sum_ = 0, max_residual_ = 0;  // the interface residual at each ISPH step's end
-  ContactRecord<D> contact_;  // fluid inside the structure, step by step
-  StateVector<Vec<D>> wall_point_;  // the fluid's wall particles as obstacles (set_obstacles)
+  ContactRecord<D> contact_;                  // fluid inside the structure, step by step
+  StateVector<Vec<D>> wall_point_;            // the fluid's wall particles as obstacles (set_obstacles)
   StateVector<Real> wall_radius_;
   bool walls_gathered_ = false;  // the fixed walls are the solver's obstacles
   Real max_wall_overlap_ = 0;

@@ -90,8 +90,8 @@ struct ViscousAcceleration {
       const Real rho = sqrt(norm2(r_ab));
       if (!(rho > 0)) continue;
       const Real nu_b = viscosity + (eddy_viscosity && v.is_fluid(b) ? eddy_viscosity[b] : 0);
-      const Real w = 0.5 * (nu_a + nu_b) *
-                     laplacian_pair_weight(bhat, r_ab, rho, op.volume[b] * op.gradient(a, b, r_ab));
+      const Real w =
+          0.5 * (nu_a + nu_b) * laplacian_pair_weight(bhat, r_ab, rho, op.volume[b] * op.gradient(a, b, r_ab));
       term(b, (w / rho) * (u[a] - v.velocity_seen(a, b, u) - G * r_ab));
     }
   }
@@ -291,7 +291,9 @@ template <class Select>
 struct IdKey {
   Select select;
   const Index* id;
-  ISPH_HD long long operator()(Index a) const { return select(a) ? (static_cast<long long>(id[a]) << 32) + a : kNoIdKey; }
+  ISPH_HD long long operator()(Index a) const {
+    return select(a) ? (static_cast<long long>(id[a]) << 32) + a : kNoIdKey;
+  }
 };
 
 // The particle of lowest stable id among those `select` accepts, or -1.

@@ -3,10 +3,9 @@
 // scheme and its safeguards are described in sim/coupling.hpp). Compiled by the host compiler even when
 // the CUDA backend is built: Eigen turns its SIMD off under nvcc, and its sums would then round
 // differently from a build without CUDA.
+#include <Eigen/Dense>
 #include <deque>
 #include <vector>
-
-#include <Eigen/Dense>
 
 #include "core/types.hpp"
 

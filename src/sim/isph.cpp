@@ -86,13 +86,14 @@ void IsphSolver<D>::compress_matrix() {
   const Index n = full.rows;
   matrix_.rows = n;
   matrix_.row_offset.resize(n + 1);  // filled by the loop, not on the host (managed memory stays on the device)
-  parallel_for(exec_, n + 1, CountRowEntries{full.row_offset.data(), full.col.data(), full.val.data(),
-                                             matrix_.row_offset.data()});
+  parallel_for(exec_, n + 1,
+               CountRowEntries{full.row_offset.data(), full.col.data(), full.val.data(), matrix_.row_offset.data()});
   inclusive_scan(exec_, matrix_.row_offset.data(), n + 1);
   resize_for_overwrite(matrix_.col, matrix_.row_offset[n]);
   resize_for_overwrite(matrix_.val, matrix_.row_offset[n]);
-  parallel_for(exec_, n, CompactRow{full.row_offset.data(), full.col.data(), full.val.data(),
-                                    matrix_.row_offset.data(), matrix_.col.data(), matrix_.val.data()});
+  parallel_for(exec_, n,
+               CompactRow{full.row_offset.data(), full.col.data(), full.val.data(), matrix_.row_offset.data(),
+                          matrix_.col.data(), matrix_.val.data()});
 }
 
 template <int D>
@@ -100,7 +101,8 @@ Real IsphSolver<D>::time_step() const {
   const Real h = kernel_.h;
   const Real u = std::max(particles_.max_speed(), reference_velocity_);
   Real dt = settings_.courant * h / u;  // Eq. 49
-  const Real nu_max = viscosity_ + parallel_reduce(exec_, particles_.size(), Real{0}, ScalarAt{eddy_viscosity_.data()}, MaxOf{});
+  const Real nu_max =
+      viscosity_ + parallel_reduce(exec_, particles_.size(), Real{0}, ScalarAt{eddy_viscosity_.data()}, MaxOf{});
   if (nu_max > 0) dt = std::min(dt, settings_.viscous_number * h * h / nu_max);
   if (settings_.max_dt > 0) dt = std::min(dt, settings_.max_dt);
   return dt;
@@ -130,10 +132,13 @@ void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
   // Eq. 11: r* = r^n + dt u^n (walls move with their prescribed velocity). The neighbours are found
   // at r*, where the particles may be re-sorted; r^n is then recovered as r* - dt u^n.
   timer.time("neighbours", [&] {
-    parallel_for(exec_, n, Drift<D>{particles_.kind.data(), particles_.velocity.data(), particles_.wall_velocity.data(), dt, true, particles_.period(), particles_.position.data(), particles_.position.data()});
+    parallel_for(exec_, n,
+                 Drift<D>{particles_.kind.data(), particles_.velocity.data(), particles_.wall_velocity.data(), dt, true,
+                          particles_.period(), particles_.position.data(), particles_.position.data()});
     particles_.find_neighbours();
-    parallel_for(exec_, n, Drift<D>{particles_.kind.data(), particles_.velocity.data(), particles_.wall_velocity.data(), -dt, false, particles_.period(), particles_.position.data(),
-                                    x_old_.data()});
+    parallel_for(exec_, n,
+                 Drift<D>{particles_.kind.data(), particles_.velocity.data(), particles_.wall_velocity.data(), -dt,
+                          false, particles_.period(), particles_.position.data(), x_old_.data()});
   });
   const FluidView<D> v = particles_.view();
   FluidView<D> pv = v;  // the pressure stages' view: dry walls have no volume (PressureVolume)
@@ -142,10 +147,12 @@ void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
   // Eqs. 10, 12-13: intermediate velocity at r* from gravity and viscosity.
   timer.time("predictor", [&] {
     if (kernel_correction_) parallel_for(exec_, n, LaplacianRenormalisation<D>{v.op, L_.data(), Bhat_.data()});
-    parallel_for(exec_, n, VelocityGradient<D>{v, L_.data(), particles_.velocity.data(), true, sps ? settings_.smagorinsky : 0.0,
-                                               grad_u_.data(), eddy_viscosity_.data()});
-    const ViscousAcceleration<D> viscous{v, Bhat_.data(), grad_u_.data(), particles_.velocity.data(),
-                                         sps ? eddy_viscosity_.data() : nullptr, viscosity_};
+    parallel_for(exec_, n,
+                 VelocityGradient<D>{v, L_.data(), particles_.velocity.data(), true, sps ? settings_.smagorinsky : 0.0,
+                                     grad_u_.data(), eddy_viscosity_.data()});
+    const ViscousAcceleration<D> viscous{
+        v,         Bhat_.data(), grad_u_.data(), particles_.velocity.data(), sps ? eddy_viscosity_.data() : nullptr,
+        viscosity_};
     parallel_for(exec_, n, VelocityPredictor<D>{viscous, gravity_, dt, u_star_.data()});
     if (particles_.has_moving_walls()) particles_.record_viscous_wall_power(viscous);
   });
@@ -153,8 +160,9 @@ void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
   // Free surface (Fig. 2) and Skillen's coefficient (Eq. 17).
   Index pinned = -1;
   timer.time("free_surface", [&] {
-    parallel_for(exec_, n, SurfaceDetection<D>{v, thresholds_, settings_.free_surface, div_r_.data(),
-                                               detected_.data(), alpha_.data()});
+    parallel_for(
+        exec_, n,
+        SurfaceDetection<D>{v, thresholds_, settings_.free_surface, div_r_.data(), detected_.data(), alpha_.data()});
     parallel_for(exec_, n, NearSurfaceDetection<D>{v, detected_.data(), cls_.data()});
     // p is defined up to a constant without a Dirichlet row: fix it at the fluid particle of lowest id.
     if (parallel_reduce(exec_, n, Index{0}, DirichletRow{particles_.kind.data(), alpha_.data()}, IntegerSum{}) == 0)
@@ -172,11 +180,11 @@ void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
     parallel_for(exec_, n + 1, PpeRowOffsets{particles_.neighbour_offset(), full_matrix_.row_offset.data()});
     resize_for_overwrite(full_matrix_.col, full_matrix_.row_offset[n]);
     resize_for_overwrite(full_matrix_.val, full_matrix_.row_offset[n]);
-    parallel_for(exec_, n, PpeRowFill<D>{pv, L_.data(), alpha_.data(), div_u_star_.data(), density_, dt, gravity_,
-                                         cls_.data(), surface_normal_.data(), extrapolate_surface_, pinned,
-                                         full_matrix_.col.data(), full_matrix_.val.data(), rhs_.data(),
-                                         wall_moment_.data(), particles_.structure_index.data(),
-                                         structure_inverse_density_, added_mass_});
+    parallel_for(exec_, n,
+                 PpeRowFill<D>{pv, L_.data(), alpha_.data(), div_u_star_.data(), density_, dt, gravity_, cls_.data(),
+                               surface_normal_.data(), extrapolate_surface_, pinned, full_matrix_.col.data(),
+                               full_matrix_.val.data(), rhs_.data(), wall_moment_.data(),
+                               particles_.structure_index.data(), structure_inverse_density_, added_mass_});
     compress_matrix();
     solves_since_assembly_ = 0;
   });
@@ -211,7 +219,7 @@ void IsphSolver<D>::solve_pressure(FluidStepReport& report, PhaseTimer& timer, d
     warm_start();
     const MatrixReuse reuse = matrix_reuse();
     report.ppe = solver_->solve(matrix_, rhs_, p_trial_, reuse);
-    int iterations = report.ppe.iterations;  // of this solve, the fallback's included
+    int iterations = report.ppe.iterations;                         // of this solve, the fallback's included
     if (!report.ppe.converged && solver_->kept_preconditioner()) {  // an old preconditioner may be why
       warm_start();
       report.ppe = solver_->solve(matrix_, rhs_, p_trial_, MatrixReuse::none);
@@ -268,8 +276,9 @@ void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
                                         .out = u_collided_.data()});
       u_new_.swap(u_collided_);
     }
-    parallel_for(exec_, n, Advance<D>{particles_.kind.data(), particles_.wall_velocity.data(), u_new_.data(), x_old_.data(), dt, particles_.period(),
-                                      particles_.velocity.data(), particles_.position.data()});
+    parallel_for(exec_, n,
+                 Advance<D>{particles_.kind.data(), particles_.wall_velocity.data(), u_new_.data(), x_old_.data(), dt,
+                            particles_.period(), particles_.velocity.data(), particles_.position.data()});
   });
 
   // Eqs. 20-26, 31-32: shifting at r^{n+1}, with the neighbour list, classes and surface normals of r*.
@@ -284,10 +293,14 @@ void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
                                fsi_shifting_ && particles_.has_structure(), fsi_shifting_law_,
                                particles_.velocity.data(), dt, shift_.data()});
       if (settings_.shifting.taylor_correction) {
-        parallel_for(exec_, n, VelocityGradient<D>{pv, L_.data(), particles_.velocity.data(), false, 0.0, grad_u_.data(), nullptr});
+        parallel_for(
+            exec_, n,
+            VelocityGradient<D>{pv, L_.data(), particles_.velocity.data(), false, 0.0, grad_u_.data(), nullptr});
         parallel_for(exec_, n, CorrectedGradient<D>{pv.op, L_.data(), particles_.pressure.data(), grad_p_.data()});
-        parallel_for(exec_, n, TaylorCorrection<D>{pv, cls_.data(), shift_.data(), grad_u_.data(), grad_p_.data(),
-                                                   particles_.velocity.data(), particles_.pressure.data(), u_new_.data(), p_trial_.data()});
+        parallel_for(exec_, n,
+                     TaylorCorrection<D>{pv, cls_.data(), shift_.data(), grad_u_.data(), grad_p_.data(),
+                                         particles_.velocity.data(), particles_.pressure.data(), u_new_.data(),
+                                         p_trial_.data()});
         particles_.velocity.swap(u_new_);
         particles_.pressure.swap(p_trial_);
       }
@@ -305,15 +318,17 @@ void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
 
 template <int D>
 void IsphSolver<D>::boundary_pressure_force(bool pairwise, FluidKind target) {
-  parallel_for(exec_, particles_.size(), BoundaryPressureForce<D>{particles_.view(), particles_.pressure.data(), L_structure_.data(), grad_p_.data(),
-                                                             particles_.boundary_force.data(), pairwise, target});
+  parallel_for(exec_, particles_.size(),
+               BoundaryPressureForce<D>{particles_.view(), particles_.pressure.data(), L_structure_.data(),
+                                        grad_p_.data(), particles_.boundary_force.data(), pairwise, target});
 }
 
 template <int D>
 void IsphSolver<D>::set_structure_acceleration(std::span<const Vec<D>> a) {
   particles_.follow_structure_acceleration(a);
-  parallel_for(exec_, particles_.size(),
-               StructureRowRhs<D>{particles_.structure_index.data(), a.data(), gravity_, wall_moment_.data(), rhs_.data()});
+  parallel_for(
+      exec_, particles_.size(),
+      StructureRowRhs<D>{particles_.structure_index.data(), a.data(), gravity_, wall_moment_.data(), rhs_.data()});
 }
 
 template <int D>

@@ -61,7 +61,8 @@ ParticleSet<D>::ParticleSet(FluidSetup<D>& s)
   wall_acceleration = boundary_force = array(Vec<D>::zero());
   pressure = array(Real{0});
   for (auto* v : {&inside_, &permute_scratch_}) *v = StateVector<unsigned char>(allocator<unsigned char>());
-  for (auto* v : {&body_distance_, &body_depth_, &power_density_, &block_sums_}) *v = StateVector<Real>(allocator<Real>());
+  for (auto* v : {&body_distance_, &body_depth_, &power_density_, &block_sums_})
+    *v = StateVector<Real>(allocator<Real>());
   has_structure_ = std::count(s.kind.begin(), s.kind.end(), FluidKind::structure) > 0;
   fluid_count_ = static_cast<Index>(std::count(s.kind.begin(), s.kind.end(), FluidKind::fluid));
   wall_count_ = static_cast<Index>(std::count(s.kind.begin(), s.kind.end(), FluidKind::wall));
@@ -81,8 +82,8 @@ const Index* ParticleSet<D>::neighbour_offset() const {
 template <int D>
 FluidView<D> ParticleSet<D>::view() const {
   const Index* index = exec_.device == Device::cuda ? device_neighbours_.index.data() : neighbours_.index.data();
-  const OperatorView<D> op{size(), position.data(), volume.data(), neighbour_offset(), index, kernels_, period_,
-                           kernels_.levels > 1 ? level.data() : nullptr};
+  const OperatorView<D> op{size(), position.data(), volume.data(), neighbour_offset(),
+                           index,  kernels_,        period_,       kernels_.levels > 1 ? level.data() : nullptr};
   return {op, kind.data(), wall_velocity.data(), wall_acceleration.data(), wall_normal.data(), wall_depth.data(), dx_};
 }
 
@@ -152,7 +153,8 @@ void ParticleSet<D>::restore(const SnapshotData& snapshot) {
   for (Index a = 0; a < size(); ++a) {
     const long long r = static_cast<std::size_t>(id[a]) < row.size() ? row[id[a]] : -1;
     if (r < 0) {  // fluid the earlier run removed; every wall and structure particle must be there
-      if (kind[a] != FluidKind::fluid) throw mismatch("it lacks the wall or structure particle id " + std::to_string(id[a]));
+      if (kind[a] != FluidKind::fluid)
+        throw mismatch("it lacks the wall or structure particle id " + std::to_string(id[a]));
       continue;
     }
     if (kinds.data[r] != static_cast<double>(kind[a]))
@@ -187,9 +189,10 @@ void ParticleSet<D>::restore(const SnapshotData& snapshot) {
 
 template <int D>
 void ParticleSet<D>::prescribe_walls(Real dt) {
-  parallel_for(exec_, size(), PrescribeWalls<D>{motion.data(), poses_at(motions_, time), poses_at(motions_, time + dt), reference_position.data(),
-                                                reference_normal.data(), dt, period_, position.data(), velocity.data(),
-                                                wall_velocity.data(), wall_acceleration.data(), wall_normal.data()});
+  parallel_for(exec_, size(),
+               PrescribeWalls<D>{motion.data(), poses_at(motions_, time), poses_at(motions_, time + dt),
+                                 reference_position.data(), reference_normal.data(), dt, period_, position.data(),
+                                 velocity.data(), wall_velocity.data(), wall_acceleration.data(), wall_normal.data()});
 }
 
 template <int D>
@@ -201,12 +204,15 @@ void ParticleSet<D>::gather_walls(StateVector<Vec<D>>& point, StateVector<Real>&
   inclusive_scan(exec_, wall_slot_.data() + 1, n);
   resize_for_overwrite(point, wall_slot_[n]);  // the number of walls: one value back from the device
   resize_for_overwrite(radius, wall_slot_[n]);
-  parallel_for(exec_, n, GatherWalls<D>{kind.data(), position.data(), volume.data(), wall_slot_.data(), point.data(), radius.data()});
+  parallel_for(
+      exec_, n,
+      GatherWalls<D>{kind.data(), position.data(), volume.data(), wall_slot_.data(), point.data(), radius.data()});
 }
 
 template <int D>
 Vec<D> ParticleSet<D>::gather_structure_force(std::span<Vec<D>> force_density) const {
-  parallel_for(exec_, size(), ScatterToStructure<D>{structure_index.data(), boundary_force.data(), false, force_density.data()});
+  parallel_for(exec_, size(),
+               ScatterToStructure<D>{structure_index.data(), boundary_force.data(), false, force_density.data()});
   return summed(static_cast<Index>(structure_volume_.size()),
                 ForceComponent<D>{structure_volume_.data(), force_density.data(), 0});
 }
@@ -231,9 +237,10 @@ Vec<D> ParticleSet<D>::summed(Index n, ForceComponent<D> component) const {
 // viscous traction's.
 template <int D>
 Real ParticleSet<D>::moving_wall_power() const {
-  return viscous_wall_power_ +
-         ordered_sum(exec_, size(), MovingWallPressurePower<D>{motion.data(), volume.data(), boundary_force.data(),
-                                                               wall_velocity.data()}, block_sums_);
+  return viscous_wall_power_ + ordered_sum(exec_, size(),
+                                           MovingWallPressurePower<D>{motion.data(), volume.data(),
+                                                                      boundary_force.data(), wall_velocity.data()},
+                                           block_sums_);
 }
 
 template <int D>
@@ -244,16 +251,16 @@ void ParticleSet<D>::record_viscous_wall_power(const ViscousAcceleration<D>& vis
 }
 
 template <int D>
-void ParticleSet<D>::move_structure(std::span<const Vec<D>> x, std::span<const Vec<D>> v,
-                                       std::span<const Mat<D>> F) {
-  parallel_for(exec_, size(), FollowStructure<D>{structure_index.data(), x.data(), v.data(), F.data(),
-                                                 reference_normal.data(), position.data(), velocity.data(), wall_velocity.data(),
-                                                 wall_normal.data()});
+void ParticleSet<D>::move_structure(std::span<const Vec<D>> x, std::span<const Vec<D>> v, std::span<const Mat<D>> F) {
+  parallel_for(exec_, size(),
+               FollowStructure<D>{structure_index.data(), x.data(), v.data(), F.data(), reference_normal.data(),
+                                  position.data(), velocity.data(), wall_velocity.data(), wall_normal.data()});
 }
 
 template <int D>
 void ParticleSet<D>::follow_structure_acceleration(std::span<const Vec<D>> a) {
-  parallel_for(exec_, size(), FollowStructureAcceleration<D>{structure_index.data(), a.data(), wall_acceleration.data()});
+  parallel_for(exec_, size(),
+               FollowStructureAcceleration<D>{structure_index.data(), a.data(), wall_acceleration.data()});
 }
 
 template <int D>
@@ -268,7 +275,8 @@ InteractionReport<D> ParticleSet<D>::contact(FluidKind body) {
   const Real nearest = parallel_reduce(exec_, n, kOutOfReach, ScalarAt{body_distance_.data()}, MinOf{});
   report.min_distance = nearest < kOutOfReach ? nearest : std::numeric_limits<Real>::infinity();
   report.max_depth = parallel_reduce(exec_, n, Real{0}, ScalarAt{body_depth_.data()}, MaxOf{});
-  if (report.fluid_inside > 0) report.inside_at = position[lowest_id_particle(exec_, n, Flagged{inside_.data()}, id.data())];
+  if (report.fluid_inside > 0)
+    report.inside_at = position[lowest_id_particle(exec_, n, Flagged{inside_.data()}, id.data())];
   return report;
 }
 

@@ -53,27 +53,27 @@ struct FluidSetup {
   std::vector<Vec<D>> x, u;
   std::vector<Real> volume;
   std::vector<FluidKind> kind;
-  std::vector<unsigned char> level;   // index in `kernels` (0 for every particle of a one-resolution scene)
-  std::vector<Vec<D>> wall_velocity;  // prescribed velocity (walls), zero for fluid
-  std::vector<Vec<D>> wall_normal;    // walls, structures: unit normal into the fluid (zero when deep inside)
-  std::vector<Real> wall_depth;       // walls, structures: distance below the surface
-  std::vector<Index> structure_index; // structure particles: index in the TLSPH solver; -1 for others
-  std::vector<Index> id;              // stable id (output order)
-  std::vector<Index> motion;          // walls: index in `motions`; -1 for fixed walls and the others
-  std::vector<Index> body;            // index in the case's bodies (-1: a set built by hand)
+  std::vector<unsigned char> level;     // index in `kernels` (0 for every particle of a one-resolution scene)
+  std::vector<Vec<D>> wall_velocity;    // prescribed velocity (walls), zero for fluid
+  std::vector<Vec<D>> wall_normal;      // walls, structures: unit normal into the fluid (zero when deep inside)
+  std::vector<Real> wall_depth;         // walls, structures: distance below the surface
+  std::vector<Index> structure_index;   // structure particles: index in the TLSPH solver; -1 for others
+  std::vector<Index> id;                // stable id (output order)
+  std::vector<Index> motion;            // walls: index in `motions`; -1 for fixed walls and the others
+  std::vector<Index> body;              // index in the case's bodies (-1: a set built by hand)
   std::vector<RigidMotion<D>> motions;  // prescribed motions of wall bodies
   Real density = 0;
-  Real viscosity = 0;                 // kinematic [m^2/s]
-  Real dx = 0;                        // the fluid's (and walls') particle spacing
-  KernelTable<D> kernels;             // per level, sorted by h; level 0 need not be the fluid's
-  int fluid_level = 0;                // the fluid's level in `kernels`
+  Real viscosity = 0;      // kinematic [m^2/s]
+  Real dx = 0;             // the fluid's (and walls') particle spacing
+  KernelTable<D> kernels;  // per level, sorted by h; level 0 need not be the fluid's
+  int fluid_level = 0;     // the fluid's level in `kernels`
   bool kernel_correction = true;
   Periodicity<D> period;
   Vec<D> gravity = Vec<D>::zero();
-  Real reference_velocity = 0;        // floor on U in Eq. 49 (resolved from the case)
+  Real reference_velocity = 0;  // floor on U in Eq. 49 (resolved from the case)
   FluidSpec settings;
-  Device device = Device::cpu;        // cuda: the state lives in managed memory and every particle loop runs on the GPU
-  bool fsi_shifting = true;           // the FSI shifting layer (Eqs. 27-30)
+  Device device = Device::cpu;  // cuda: the state lives in managed memory and every particle loop runs on the GPU
+  bool fsi_shifting = true;     // the FSI shifting layer (Eqs. 27-30)
   FsiLayerLaw fsi_shifting_law = FsiLayerLaw::literal;
   InteractionForce interaction_force =
       InteractionForce::pairwise;  // pairwise | gradient (Eq. 48 literally; structure/interaction.hpp)
@@ -86,10 +86,10 @@ struct FluidSetup {
 // (BodyContact, structure/interaction.hpp).
 template <int D>
 struct InteractionReport {
-  Index fluid_inside = 0;                // fluid particles inside the body
-  Real min_distance = 0;                 // smallest fluid-body particle distance (inf: none in reach)
-  Real max_depth = 0;                    // deepest fluid particle inside, behind the body's surface
-  Vec<D> inside_at = Vec<D>::zero();     // position of the lowest-id fluid particle inside (when any)
+  Index fluid_inside = 0;             // fluid particles inside the body
+  Real min_distance = 0;              // smallest fluid-body particle distance (inf: none in reach)
+  Real max_depth = 0;                 // deepest fluid particle inside, behind the body's surface
+  Vec<D> inside_at = Vec<D>::zero();  // position of the lowest-id fluid particle inside (when any)
 };
 
 // The penetration diagnostics of a run against one body, step by step, for summary.json.
@@ -113,12 +113,12 @@ class ContactRecord {
 };
 
 struct FluidStepReport {
-  SolveReport ppe;                 // the step's last PPE solve
-  int ppe_solves = 0;              // PPE solves in the step (the coupling's interface iterations repeat it)
-  long long ppe_iterations = 0;    // Krylov iterations over all of them (a fallback's included)
-  int ppe_max_iterations = 0;      // the most any one of them took
-  std::string ppe_solver;  // the backend that produced the pressure ("none" for a weakly compressible fluid)
-  bool ppe_failed = false; // no backend converged
+  SolveReport ppe;               // the step's last PPE solve
+  int ppe_solves = 0;            // PPE solves in the step (the coupling's interface iterations repeat it)
+  long long ppe_iterations = 0;  // Krylov iterations over all of them (a fallback's included)
+  int ppe_max_iterations = 0;    // the most any one of them took
+  std::string ppe_solver;        // the backend that produced the pressure ("none" for a weakly compressible fluid)
+  bool ppe_failed = false;       // no backend converged
 };
 
 // The vector of a snapshot row (a field of 3 components, z dropped in 2D).
@@ -140,13 +140,14 @@ class ParticleSet {
   StateVector<Vec<D>> position, velocity;
   StateVector<Real> pressure, volume;
   StateVector<FluidKind> kind;
-  StateVector<unsigned char> level;          // index in kernels()
+  StateVector<unsigned char> level;  // index in kernels()
   StateVector<Vec<D>> wall_velocity, wall_acceleration, wall_normal, reference_normal;
   StateVector<Real> wall_depth;
-  StateVector<Index> id, structure_index, motion;  // stable id; TLSPH index (-1: not a structure particle); motion (-1: none)
-  StateVector<Index> body;                         // index in the case's bodies (FluidSetup::body)
-  StateVector<Vec<D>> reference_position;    // initial positions (moving walls follow their motion from them)
-  StateVector<Vec<D>> boundary_force;        // pressure force per unit volume on wall and structure particles
+  StateVector<Index> id, structure_index,
+      motion;                              // stable id; TLSPH index (-1: not a structure particle); motion (-1: none)
+  StateVector<Index> body;                 // index in the case's bodies (FluidSetup::body)
+  StateVector<Vec<D>> reference_position;  // initial positions (moving walls follow their motion from them)
+  StateVector<Vec<D>> boundary_force;      // pressure force per unit volume on wall and structure particles
   Real time = 0;
   Real wall_work = 0;  // work done on the fluid by the moving walls' pressure and viscous traction
 
@@ -264,16 +265,15 @@ class ParticleSet {
   std::vector<std::function<void(const Index*, Index)>> followers_;  // attach()
   StateVector<unsigned char> inside_;
   StateVector<Real> body_distance_, body_depth_;
-  StateVector<Real> structure_volume_;  // volume of each structure particle, indexed as in TLSPH
+  StateVector<Real> structure_volume_;    // volume of each structure particle, indexed as in TLSPH
   mutable StateVector<Index> wall_slot_;  // gather_walls: walls before each particle (entry 0 stays 0)
   StateVector<unsigned char> permute_scratch_;
-  StateVector<Real> power_density_;  // per-particle work array of record_viscous_wall_power
+  StateVector<Real> power_density_;       // per-particle work array of record_viscous_wall_power
   mutable StateVector<Real> block_sums_;  // ordered_sum's scratch
-  CellList<D> cells_;  // cpu
+  CellList<D> cells_;                     // cpu
   NeighbourList neighbours_;
   DeviceCellList<D> device_cells_;  // cuda
   DeviceNeighbourList device_neighbours_;
-
 
   Index fluid_count_ = 0, wall_count_ = 0;
   long long neighbour_searches_ = 0, order_version_ = 0;

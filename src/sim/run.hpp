@@ -9,7 +9,7 @@
 namespace isph {
 
 struct RunOptions {
-  std::string out_dir;   // default: out/<case name>
+  std::string out_dir;  // default: out/<case name>
   Device device = Device::cpu;
   int threads = 0;       // 0: OpenMP default
   bool progress = true;  // progress line on stderr

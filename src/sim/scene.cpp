@@ -149,7 +149,9 @@ struct Resolutions {
     return static_cast<int>(std::find(spacing.begin(), spacing.end(), b.spacing(dx)) - spacing.begin());
   }
   int fluid_level() const { return level_of(dx); }
-  int level_of(Real s) const { return static_cast<int>(std::find(spacing.begin(), spacing.end(), s) - spacing.begin()); }
+  int level_of(Real s) const {
+    return static_cast<int>(std::find(spacing.begin(), spacing.end(), s) - spacing.begin());
+  }
   template <int D>
   KernelTable<D> kernels(const KernelSpec& k) const {
     KernelTable<D> table;
@@ -479,10 +481,12 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const
   for (std::size_t bi = 0; bi < spec.bodies.size(); ++bi) {
     const BodySpec& b = spec.bodies[bi];
     if (b.kind != ParticleKind::fluid) continue;
-    if (material.empty()) material = b.material;
+    if (material.empty())
+      material = b.material;
     else if (b.material != material)
-      problems.push_back(file + ": bodies[" + std::to_string(bi) + "].material: all fluid bodies must share one material ('" +
-                         material + "' and '" + b.material + "')");
+      problems.push_back(file + ": bodies[" + std::to_string(bi) +
+                         "].material: all fluid bodies must share one material ('" + material + "' and '" + b.material +
+                         "')");
   }
   for (const auto& m : spec.materials)
     if (m.name == material) f.density = m.density, f.viscosity = m.viscosity;
@@ -731,7 +735,8 @@ Scene<D> build_scene(const CaseSpec& spec) {
     }
     for (std::size_t c = 0; c < body.clamps.size(); ++c)
       if (clamp_count[c] == 0)
-        problems.push_back(file + ": " + key + ".clamps[" + std::to_string(c) + "]: the clamp region holds no particle of the body");
+        problems.push_back(file + ": " + key + ".clamps[" + std::to_string(c) +
+                           "]: the clamp region holds no particle of the body");
   }
   const Index n = static_cast<Index>(s.X.size());
   scene.has_structure = spec.stages.structure && n > 0;
@@ -739,8 +744,8 @@ Scene<D> build_scene(const CaseSpec& spec) {
   if (spec.stages.structure && n == 0 && problems.empty())
     problems.push_back(file + ": bodies: the case has no structure particles (set stages.structure = false)");
   if (s.motions.size() > static_cast<std::size_t>(kMaxMotions))
-    problems.push_back(file + ": bodies: " + std::to_string(s.motions.size()) + " structures with moving clamps; at most " +
-                       std::to_string(kMaxMotions) + " are supported");
+    problems.push_back(file + ": bodies: " + std::to_string(s.motions.size()) +
+                       " structures with moving clamps; at most " + std::to_string(kMaxMotions) + " are supported");
   if (scene.has_fluid) finish_fluid<D>(spec, scene, fluid, s, problems);
 
   // Loads: per-particle acceleration at full load.
@@ -750,8 +755,8 @@ Scene<D> build_scene(const CaseSpec& spec) {
     LoadField<D> field;
     field.ramp_time = load.ramp_time;
     field.acc.assign(n, Vec<D>::zero());
-    const auto body = std::find_if(spec.bodies.begin(), spec.bodies.end(),
-                                   [&](const BodySpec& b) { return b.name == load.body; });
+    const auto body =
+        std::find_if(spec.bodies.begin(), spec.bodies.end(), [&](const BodySpec& b) { return b.name == load.body; });
     const int bi = static_cast<int>(body - spec.bodies.begin());
     std::vector<Index> targets;
     if (load.type == LoadType::body) {

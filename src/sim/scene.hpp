@@ -39,25 +39,25 @@ struct ForceProbe {
 
 template <int D>
 struct Scene {
-  bool has_structure = false;        // the stages the case runs
+  bool has_structure = false;  // the stages the case runs
   bool has_fluid = false;
-  TlsphSetup<D> structure;           // structure particles, sorted by cell
-  std::vector<Index> structure_id;   // stable ids (output order)
-  std::vector<int> structure_body;   // body index per structure particle
-  FluidSetup<D> fluid;               // fluid and wall particles
+  TlsphSetup<D> structure;          // structure particles, sorted by cell
+  std::vector<Index> structure_id;  // stable ids (output order)
+  std::vector<int> structure_body;  // body index per structure particle
+  FluidSetup<D> fluid;              // fluid and wall particles
   Index fluid_particles = 0;
   Index wall_particles = 0;
   std::vector<DisplacementProbe<D>> probes;
   std::vector<StructurePressureProbe> pressure_probes;
   std::vector<FluidProbe<D>> fluid_probes;
   std::vector<ForceProbe> force_probes;
-  Real body_extent = 0;              // largest body size, for the divergence test
-  Vec<D> domain_lo, domain_hi;       // fluid: a particle leaving this box has escaped
-  Vec<D> up = Vec<D>::zero();        // against gravity (unit; zero without gravity)
+  Real body_extent = 0;               // largest body size, for the divergence test
+  Vec<D> domain_lo, domain_hi;        // fluid: a particle leaving this box has escaped
+  Vec<D> up = Vec<D>::zero();         // against gravity (unit; zero without gravity)
   std::vector<std::string> warnings;  // what may spoil a run without making the case wrong (printed by check and run)
-  Real rim = 0;                      // the highest corner, along `up`, of the box of the set-up's particles and
-                                     // walls' paths, less 2h: an escaped particle above it was thrown out over
-                                     // the walls
+  Real rim = 0;                       // the highest corner, along `up`, of the box of the set-up's particles and
+                                      // walls' paths, less 2h: an escaped particle above it was thrown out over
+                                      // the walls
 };
 
 // Fills every body on its lattice, applies clamps, initial velocities and loads, and places the

@@ -49,8 +49,8 @@ WcsphSolver<D>::WcsphSolver(FluidSetup<D> s)
       kernel_correction_(s.kernel_correction) {
   ParticleSet<D>& ps = particles_;
   const Index n = ps.size();
-  sound_speed_ = s.settings.wcsph.sound_speed > 0 ? s.settings.wcsph.sound_speed
-                                                  : 10 * std::sqrt(2.0) * reference_velocity_;
+  sound_speed_ =
+      s.settings.wcsph.sound_speed > 0 ? s.settings.wcsph.sound_speed : 10 * std::sqrt(2.0) * reference_velocity_;
   self_weight_ = kernel_.value(0);
   full_sum_ = lattice_kernel_sum(kernel_, s.dx);
   rho_ = ps.array(density_);
@@ -97,7 +97,7 @@ Real WcsphSolver<D>::time_step() const {
   const Real h = kernel_.h;
   const Real u = std::max(particles_.max_speed(), reference_velocity_);
   const Real acoustic = acoustic_courant_ * h / (sound_speed_ + u);  // Eq. 10
-  Real dt = dual_ ? advection_courant_ * h / u : acoustic;            // Eq. 9
+  Real dt = dual_ ? advection_courant_ * h / u : acoustic;           // Eq. 9
   if (viscosity_ > 0) dt = std::min(dt, advection_courant_ * h * h / viscosity_);
   if (settings_.max_dt > 0) dt = std::min(dt, settings_.max_dt);
   return dt;
@@ -130,18 +130,21 @@ void WcsphSolver<D>::configure(Real dt, PhaseTimer& timer) {
   const FluidView<D> v = particles_.view();
   if (dual_)
     timer.time("density", [&] {
-      parallel_for(exec_, n, DensityReinitialisation<D>{v, density_, self_weight_, full_sum_,
-                                                        settings_.free_surface, rho_.data()});
-      parallel_for(exec_, n, EquationOfState<D>{particles_.kind.data(), nullptr, 0.0, density_, sound_speed_, rho_.data(),
-                                                particles_.pressure.data()});
+      parallel_for(
+          exec_, n,
+          DensityReinitialisation<D>{v, density_, self_weight_, full_sum_, settings_.free_surface, rho_.data()});
+      parallel_for(exec_, n,
+                   EquationOfState<D>{particles_.kind.data(), nullptr, 0.0, density_, sound_speed_, rho_.data(),
+                                      particles_.pressure.data()});
       forces_current_ = false;
     });
   if (viscosity_ > 0)
     timer.time("viscosity", [&] {
       if (kernel_correction_) parallel_for(exec_, n, LaplacianRenormalisation<D>{v.op, L_.data(), Bhat_.data()});
-      parallel_for(exec_, n, VelocityGradient<D>{v, L_.data(), particles_.velocity.data(), true, 0.0, grad_u_.data(), nullptr});
-      const ViscousAcceleration<D> viscous{v, Bhat_.data(), grad_u_.data(), particles_.velocity.data(), nullptr, viscosity_,
-                                           viscous_.data()};
+      parallel_for(exec_, n,
+                   VelocityGradient<D>{v, L_.data(), particles_.velocity.data(), true, 0.0, grad_u_.data(), nullptr});
+      const ViscousAcceleration<D> viscous{v,       Bhat_.data(), grad_u_.data(), particles_.velocity.data(),
+                                           nullptr, viscosity_,   viscous_.data()};
       parallel_for(exec_, n, viscous);
       if (particles_.has_moving_walls()) particles_.record_viscous_wall_power(viscous);  // held with the acceleration
     });
@@ -152,7 +155,8 @@ template <int D>
 void WcsphSolver<D>::evaluate_forces() {
   const Index n = particles_.size();
   const FluidView<D> v = particles_.view();
-  parallel_for(exec_, n, BoundaryPressure<D>{v, gravity_, density_, sound_speed_, particles_.pressure.data(), rho_.data()});
+  parallel_for(exec_, n,
+               BoundaryPressure<D>{v, gravity_, density_, sound_speed_, particles_.pressure.data(), rho_.data()});
   RiemannInteraction<D> momentum = riemann();
   momentum.acceleration = acceleration_.data();
   momentum.boundary_force = particles_.boundary_force.data();
@@ -187,20 +191,24 @@ template <int D>
 void WcsphSolver<D>::acoustic_step(Real dt, PhaseTimer& timer, const AcousticHook& hook) {
   const Index n = particles_.size();
   auto kick = [&] {
-    parallel_for(exec_, n, VerletKick<D>{particles_.kind.data(), acceleration_.data(), viscous_.data(), gravity_, 0.5 * dt,
-                                         particles_.velocity.data()});
+    parallel_for(exec_, n,
+                 VerletKick<D>{particles_.kind.data(), acceleration_.data(), viscous_.data(), gravity_, 0.5 * dt,
+                               particles_.velocity.data()});
   };
   timer.time("integration", kick);
   if (hook) hook(particles_.time, dt);
   timer.time("integration", [&] {
-    parallel_for(exec_, n, VerletDrift<D>{particles_.kind.data(), particles_.velocity.data(), particles_.wall_velocity.data(), dt, particles_.period(), particles_.position.data()});
+    parallel_for(exec_, n,
+                 VerletDrift<D>{particles_.kind.data(), particles_.velocity.data(), particles_.wall_velocity.data(), dt,
+                                particles_.period(), particles_.position.data()});
   });
   timer.time("density", [&] {
     RiemannInteraction<D> continuity = riemann();
     continuity.drho_dt = drho_dt_.data();
     parallel_for(exec_, n, continuity);
-    parallel_for(exec_, n, EquationOfState<D>{particles_.kind.data(), drho_dt_.data(), dt, density_, sound_speed_, rho_.data(),
-                                              particles_.pressure.data()});
+    parallel_for(exec_, n,
+                 EquationOfState<D>{particles_.kind.data(), drho_dt_.data(), dt, density_, sound_speed_, rho_.data(),
+                                    particles_.pressure.data()});
   });
   timer.time("pressure_force", [&] { evaluate_forces(); });
   timer.time("integration", kick);
@@ -258,7 +266,7 @@ void WcsphSolver<D>::restore_fields(const SnapshotData& snapshot) {
 
 template <int D>
 FluidStepReport WcsphSolver<D>::step(Real /*t: the acoustic steps read the particles' time*/, Real dt,
-                                      StructureCoupling<D>* structure, PhaseTimer& timer) {
+                                     StructureCoupling<D>* structure, PhaseTimer& timer) {
   if (!structure) return step(dt, timer);
   const FluidStepReport report =
       step(dt, timer, [&](Real t0, Real h) { structure->explicit_step(t0, h, *this, timer); });
@@ -273,8 +281,7 @@ void WcsphSolver<D>::add_performance(JsonObject& performance) const {
       .set("sound_speed", sound_speed_)
       .set("advection_steps", advection_steps_)
       .set("acoustic_steps", acoustic_steps_)
-      .set("mean_acoustic_per_advection",
-           advection_steps_ > 0 ? double(acoustic_steps_) / advection_steps_ : 0.0);
+      .set("mean_acoustic_per_advection", advection_steps_ > 0 ? double(acoustic_steps_) / advection_steps_ : 0.0);
   performance.set("wcsph", w);
 }
 

@@ -82,12 +82,12 @@ struct BoundaryPressure {
 template <int D>
 struct RiemannInteraction {
   FluidView<D> v;
-  const Vec<D>* u;       // fluid velocity (boundary particles use v.wall_velocity)
+  const Vec<D>* u;  // fluid velocity (boundary particles use v.wall_velocity)
   const Real* rho;
   const Real* p;
   Real density, sound_speed, limiter;
-  Real* drho_dt;         // continuity pass when not null (fluid particles)
-  Vec<D>* acceleration;  // momentum pass when not null: the fluid's pressure acceleration ...
+  Real* drho_dt;           // continuity pass when not null (fluid particles)
+  Vec<D>* acceleration;    // momentum pass when not null: the fluid's pressure acceleration ...
   Vec<D>* boundary_force;  // ... and the boundary particles' force density
   Mat<D>* impedance;       // ... and their impedance Z_a, when not null
 
@@ -159,8 +159,10 @@ struct VerletDrift {
   Periodicity<D> period;
   Vec<D>* x;
   ISPH_HD void operator()(Index a) const {
-    if (kind[a] == FluidKind::fluid) x[a] = period.wrap(x[a] + dt * u[a]);
-    else if (kind[a] == FluidKind::wall) x[a] = period.wrap(x[a] + dt * wall_velocity[a]);
+    if (kind[a] == FluidKind::fluid)
+      x[a] = period.wrap(x[a] + dt * u[a]);
+    else if (kind[a] == FluidKind::wall)
+      x[a] = period.wrap(x[a] + dt * wall_velocity[a]);
   }
 };
 

@@ -16,11 +16,11 @@ inline bool gpu_required() {
 }
 }  // namespace isph::testing
 
-#define ISPH_SKIP_WITHOUT_GPU()                                                                        \
-  do {                                                                                                 \
-    if (::isph::cuda_devices() == 0) {                                                                 \
-      if (::isph::testing::gpu_required())                                                             \
-        FAIL() << "ISPH_REQUIRE_GPU_TESTS=1 but no CUDA device is usable in this build";               \
-      GTEST_SKIP() << "no CUDA device (or the build has no CUDA backend)";                             \
-    }                                                                                                  \
+#define ISPH_SKIP_WITHOUT_GPU()                                                          \
+  do {                                                                                   \
+    if (::isph::cuda_devices() == 0) {                                                   \
+      if (::isph::testing::gpu_required())                                               \
+        FAIL() << "ISPH_REQUIRE_GPU_TESTS=1 but no CUDA device is usable in this build"; \
+      GTEST_SKIP() << "no CUDA device (or the build has no CUDA backend)";               \
+    }                                                                                    \
   } while (0)

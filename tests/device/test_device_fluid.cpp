@@ -85,7 +85,8 @@ TEST(DeviceFluid, PpeAssemblyStagesMatchTheHost) {
       }
     const auto n = static_cast<Index>(x.size());
     std::vector<Real> volume(n, dx * dx), alpha(n), depth(n, 0);
-    std::vector<Vec<2>> wall_velocity(n), wall_acceleration(n), wall_normal(n, Vec<2>::zero()), normal(n, Vec<2>::zero());
+    std::vector<Vec<2>> wall_velocity(n), wall_acceleration(n), wall_normal(n, Vec<2>::zero()),
+        normal(n, Vec<2>::zero());
     std::vector<SurfaceClass> cls(n, SurfaceClass::interior);
     for (Index a = 0; a < n; ++a) {
       wall_velocity[a] = Vec<2>{{0.1 * uniform(rng), 0.0}};
@@ -108,8 +109,8 @@ TEST(DeviceFluid, PpeAssemblyStagesMatchTheHost) {
     // Host.
     const Exec host{};
     const OperatorView<2> op{n, x.data(), volume.data(), nl.offset.data(), nl.index.data(), kernel};
-    const FluidView<2> view{op, kind.data(), wall_velocity.data(), wall_acceleration.data(), wall_normal.data(),
-                            depth.data(), dx};
+    const FluidView<2> view{
+        op, kind.data(), wall_velocity.data(), wall_acceleration.data(), wall_normal.data(), depth.data(), dx};
     std::vector<Mat<2>> L(n);
     std::vector<Real> div(n);
     std::vector<int> col(entries);
@@ -117,8 +118,9 @@ TEST(DeviceFluid, PpeAssemblyStagesMatchTheHost) {
     std::vector<Vec<2>> moment(n);
     parallel_for(host, n, GradientCorrection<2>{op, L.data()});
     parallel_for(host, n, CorrectedDivergence<2>{op, L.data(), u.data(), div.data()});
-    parallel_for(host, n, PpeRowFill<2>{view, L.data(), alpha.data(), div.data(), density, dt, gravity, cls.data(),
-                                        normal.data(), true, -1, col.data(), val.data(), rhs.data(), moment.data()});
+    parallel_for(host, n,
+                 PpeRowFill<2>{view, L.data(), alpha.data(), div.data(), density, dt, gravity, cls.data(),
+                               normal.data(), true, -1, col.data(), val.data(), rhs.data(), moment.data()});
 
     // Device: the same functors on device copies of the same inputs.
     const Exec gpu{Device::cuda};
@@ -135,12 +137,13 @@ TEST(DeviceFluid, PpeAssemblyStagesMatchTheHost) {
     auto drhs = poisoned<double>(n);
     auto dmoment = poisoned<Vec<2>>(n);
     const OperatorView<2> dop{n, dx_.data(), dvolume.data(), doffset.data(), dindex.data(), kernel};
-    const FluidView<2> dview{dop, dkind.data(), dwall_velocity.data(), dwall_acceleration.data(), dwall_normal.data(),
-                             ddepth.data(), dx};
+    const FluidView<2> dview{
+        dop, dkind.data(), dwall_velocity.data(), dwall_acceleration.data(), dwall_normal.data(), ddepth.data(), dx};
     parallel_for(gpu, n, GradientCorrection<2>{dop, dL.data()});
     parallel_for(gpu, n, CorrectedDivergence<2>{dop, dL.data(), du.data(), ddiv.data()});
-    parallel_for(gpu, n, PpeRowFill<2>{dview, dL.data(), dalpha.data(), ddiv.data(), density, dt, gravity, dcls.data(),
-                                       dnormal.data(), true, -1, dcol.data(), dval.data(), drhs.data(), dmoment.data()});
+    parallel_for(gpu, n,
+                 PpeRowFill<2>{dview, dL.data(), dalpha.data(), ddiv.data(), density, dt, gravity, dcls.data(),
+                               dnormal.data(), true, -1, dcol.data(), dval.data(), drhs.data(), dmoment.data()});
 
     EXPECT_LT(relative_difference(L, dL), 1e-12) << "gradient correction, seed " << seed;
     EXPECT_LT(relative_difference(div, ddiv), 1e-12) << "divergence, seed " << seed;
@@ -191,7 +194,8 @@ TEST(DeviceFluid, CouplingStagesMatchTheHost) {
     std::vector<Mat<2>> rate(n);
     parallel_for(host, n, InteractionAcceleration<2>{force.data(), density.data(), alpha.data()});
     parallel_for(host, n, InteractionAcceleration<2, Mat<2>>{impedance.data(), density.data(), rate.data()});
-    parallel_for(host, n, ChordMotion<2>{x.data(), x_old.data(), v_mean.data(), inverse_dt, v_new.data(), a_new.data()});
+    parallel_for(host, n,
+                 ChordMotion<2>{x.data(), x_old.data(), v_mean.data(), inverse_dt, v_new.data(), a_new.data()});
     parallel_for(host, n,
                  SetInteraction<2>{.from = from.data(),
                                    .to = to.data(),
@@ -210,7 +214,9 @@ TEST(DeviceFluid, CouplingStagesMatchTheHost) {
     inclusive_scan(host, slot.data() + 1, n);
     std::vector<Vec<2>> wall_point(slot[n]);
     std::vector<Real> wall_radius(slot[n]);
-    parallel_for(host, n, GatherWalls<2>{kind.data(), x.data(), volume.data(), slot.data(), wall_point.data(), wall_radius.data()});
+    parallel_for(
+        host, n,
+        GatherWalls<2>{kind.data(), x.data(), volume.data(), slot.data(), wall_point.data(), wall_radius.data()});
     ASSERT_GT(slot[n], 0) << "seed " << seed;
 
     // the device
@@ -223,7 +229,9 @@ TEST(DeviceFluid, CouplingStagesMatchTheHost) {
     DeviceArray<Vec<2>> d_interaction(interaction0), d_acc(acc0);
     parallel_for(gpu, n, InteractionAcceleration<2>{d_force.data(), d_density.data(), d_alpha.data()});
     parallel_for(gpu, n, InteractionAcceleration<2, Mat<2>>{d_impedance.data(), d_density.data(), d_rate.data()});
-    parallel_for(gpu, n, ChordMotion<2>{d_x.data(), d_x_old.data(), d_v_mean.data(), inverse_dt, d_v_new.data(), d_a_new.data()});
+    parallel_for(
+        gpu, n,
+        ChordMotion<2>{d_x.data(), d_x_old.data(), d_v_mean.data(), inverse_dt, d_v_new.data(), d_a_new.data()});
     parallel_for(gpu, n,
                  SetInteraction<2>{.from = d_from.data(),
                                    .to = d_to.data(),
@@ -243,8 +251,9 @@ TEST(DeviceFluid, CouplingStagesMatchTheHost) {
     inclusive_scan(gpu, d_slot.data() + 1, n);
     DeviceArray<Vec<2>> d_wall_point = poisoned<Vec<2>>(slot[n]);
     DeviceArray<Real> d_wall_radius = poisoned<Real>(slot[n]);
-    parallel_for(gpu, n, GatherWalls<2>{d_kind.data(), d_x.data(), d_volume.data(), d_slot.data(), d_wall_point.data(),
-                                        d_wall_radius.data()});
+    parallel_for(gpu, n,
+                 GatherWalls<2>{d_kind.data(), d_x.data(), d_volume.data(), d_slot.data(), d_wall_point.data(),
+                                d_wall_radius.data()});
 
     EXPECT_LT(relative_difference(alpha, d_alpha), 1e-12) << "seed " << seed;
     EXPECT_LT(relative_difference(rate, d_rate), 1e-12) << "seed " << seed;

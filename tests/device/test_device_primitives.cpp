@@ -34,12 +34,16 @@ TEST(DevicePrimitives, ReduceAndScanMatchTheHost) {
     const DeviceArray<double> dv(v);
     const DeviceArray<Index> dk(k);
     const Exec gpu{Device::cuda}, host{};
-    EXPECT_EQ(parallel_reduce(gpu, n, -1e300, ScalarAt{dv.data()}, MaxOf{}), parallel_reduce(host, n, -1e300, ScalarAt{v.data()}, MaxOf{}));
-    EXPECT_EQ(parallel_reduce(gpu, n, 1e300, ScalarAt{dv.data()}, MinOf{}), parallel_reduce(host, n, 1e300, ScalarAt{v.data()}, MinOf{}));
+    EXPECT_EQ(parallel_reduce(gpu, n, -1e300, ScalarAt{dv.data()}, MaxOf{}),
+              parallel_reduce(host, n, -1e300, ScalarAt{v.data()}, MaxOf{}));
+    EXPECT_EQ(parallel_reduce(gpu, n, 1e300, ScalarAt{dv.data()}, MinOf{}),
+              parallel_reduce(host, n, 1e300, ScalarAt{v.data()}, MinOf{}));
     EXPECT_EQ(parallel_reduce(gpu, n, Index{0}, IntAt{dk.data()}, IntegerSum{}),
               parallel_reduce(host, n, Index{0}, IntAt{k.data()}, IntegerSum{}));
     StateVector<double> device_partial(StateAllocator<double>(true)), host_partial;
-    EXPECT_EQ(ordered_sum(gpu, n, ScalarAt{dv.data()}, device_partial), ordered_sum(host, n, ScalarAt{v.data()}, host_partial)) << n;
+    EXPECT_EQ(ordered_sum(gpu, n, ScalarAt{dv.data()}, device_partial),
+              ordered_sum(host, n, ScalarAt{v.data()}, host_partial))
+        << n;
     DeviceArray<Index> scanned(k);  // the scan works in place
     inclusive_scan(gpu, scanned.data(), n);
     inclusive_scan(host, k.data(), n);

@@ -19,7 +19,8 @@
 namespace {
 
 // Runs `case_file` with `sets` on both devices and compares probes.csv column by column.
-void expect_same_history_on_both_devices(const std::string& name, const std::string& case_file, const std::string& sets) {
+void expect_same_history_on_both_devices(const std::string& name, const std::string& case_file,
+                                         const std::string& sets) {
   const fs::path out[2] = {run_on_device("cpu", name, case_file, sets), run_on_device("cuda", name, case_file, sets)};
   if (::testing::Test::HasFailure()) return;
   const auto largest = [](const std::vector<double>& values) {

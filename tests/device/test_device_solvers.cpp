@@ -67,7 +67,8 @@ TEST(DeviceSolvers, CusparseProductMatchesTheHostProduct) {
     const SpmvMeasurement m = measure_cuda_spmv(A, x, 3);  // its output is poisoned with NaN first
     ASSERT_EQ(m.y.size(), expected.size());
     double worst = 0;
-    for (int i = 0; i < A.rows; ++i) worst = std::max(worst, std::abs(m.y[i] - expected[i]) / (std::abs(expected[i]) + 1e-300));
+    for (int i = 0; i < A.rows; ++i)
+      worst = std::max(worst, std::abs(m.y[i] - expected[i]) / (std::abs(expected[i]) + 1e-300));
     EXPECT_LT(worst, 1e-12) << "seed " << seed;
     EXPECT_GT(m.seconds_per_product, 0.0);
     EXPECT_GT(m.copy_bandwidth, 0.0);
@@ -110,7 +111,8 @@ TEST(DeviceSolvers, VectorCsrProductMatchesTheHostProduct) {
       double worst = 0;
       for (int i = 0; i < A.rows; ++i) {
         double scale = 0;  // the row's largest term: entries may cancel
-        for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k) scale = std::max(scale, std::abs(A.val[k] * x[A.col[k]]));
+        for (int k = A.row_offset[i]; k < A.row_offset[i + 1]; ++k)
+          scale = std::max(scale, std::abs(A.val[k] * x[A.col[k]]));
         const double diff = std::abs(m.y[i] - expected[i]);
         worst = std::max(worst, diff == diff ? diff / (scale + 1e-300) : INFINITY);
       }

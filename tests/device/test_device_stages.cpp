@@ -2,12 +2,11 @@
 // CPU always runs; CUDA runs when the build has it and a GPU is present, and is skipped otherwise.
 // ISPH_REQUIRE_GPU_TESTS=1 turns that skip into a failure.
 #include <gtest/gtest.h>
-
-#include <cstdlib>
 #include <omp.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <random>
 #include <utility>
 #include <vector>
@@ -21,7 +20,8 @@ using namespace isph;
 namespace {
 
 // A block clamped at its left end, with random velocities; fresh inputs for every seed.
-TlsphSetup<2> random_setup(unsigned seed, int columns = 40, StructureQuadrature quadrature = StructureQuadrature::point) {
+TlsphSetup<2> random_setup(unsigned seed, int columns = 40,
+                           StructureQuadrature quadrature = StructureQuadrature::point) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<Real> u(-1.0, 1.0);
   TlsphSetup<2> s;
@@ -44,7 +44,8 @@ TlsphSetup<2> random_setup(unsigned seed, int columns = 40, StructureQuadrature 
 }
 
 // The same block, randomly deformed.
-TlsphSolver<2> random_block(unsigned seed, int columns = 40, StructureQuadrature quadrature = StructureQuadrature::point) {
+TlsphSolver<2> random_block(unsigned seed, int columns = 40,
+                            StructureQuadrature quadrature = StructureQuadrature::point) {
   std::mt19937 rng(seed + 1000);
   std::uniform_real_distribution<Real> u(-1.0, 1.0);
   const TlsphSetup<2> s = random_setup(seed, columns, quadrature);
@@ -82,9 +83,11 @@ TEST(DeviceStages, TlsphStressAndAccelerationCudaMatchesCpu) {
     TlsphSolver<2> solver = random_block(seed, 40, quadrature);
     TlsphView<2> h = solver.view();
     const Index n = h.n, pairs = solver.pairs();
-    auto vec = [](const auto* p, std::size_t k) { return std::vector<std::remove_cv_t<std::remove_pointer_t<decltype(p)>>>(p, p + k); };
-    DeviceArray<Vec<2>> X(vec(h.X, n)), x(vec(h.x, n)), v(vec(h.v, n)), cgrad(vec(h.cgrad, pairs)), rcgrad(vec(h.rcgrad, pairs)), cgrad_sum(vec(h.cgrad_sum, n)),
-        load(std::vector<Vec<2>>(1, Vec<2>::zero()));
+    auto vec = [](const auto* p, std::size_t k) {
+      return std::vector<std::remove_cv_t<std::remove_pointer_t<decltype(p)>>>(p, p + k);
+    };
+    DeviceArray<Vec<2>> X(vec(h.X, n)), x(vec(h.x, n)), v(vec(h.v, n)), cgrad(vec(h.cgrad, pairs)),
+        rcgrad(vec(h.rcgrad, pairs)), cgrad_sum(vec(h.cgrad_sum, n)), load(std::vector<Vec<2>>(1, Vec<2>::zero()));
     DeviceArray<Index> off(vec(h.nbr_offset, n + 1)), nbr(vec(h.nbr, pairs));
     DeviceArray<Real> hg_weight(vec(h.hg_weight, pairs)), volume(vec(h.volume, n)), cell_moment(vec(h.cell_moment, n));
     DeviceArray<Mat<2>> hg_moment(vec(h.hg_moment, n));
@@ -238,8 +241,8 @@ TEST(DeviceStages, TlsphSubstepsQueuedOnTheDeviceMatchTheHost) {
       t += dt;
       EXPECT_TRUE(device.replayed_graph()) << "seed " << seed;
       EXPECT_GT(std::abs(host_work), 0) << "seed " << seed;
-      EXPECT_NEAR(device_work, host_work, 1e-12 * std::abs(host_work)) << "seed " << seed << ", " << count
-                                                                         << (ramped ? " ramped" : " held") << " substeps";
+      EXPECT_NEAR(device_work, host_work, 1e-12 * std::abs(host_work))
+          << "seed " << seed << ", " << count << (ramped ? " ramped" : " held") << " substeps";
     }
     std::vector<Vec<2>> uh(n), ud(n);
     for (Index a = 0; a < n; ++a) {
@@ -279,7 +282,8 @@ TEST(DeviceStages, TlsphObstaclesOnTheDeviceMatchTheHost) {
       if (k % 10 == 0) {
         host.find_obstacle_candidates(), device.find_obstacle_candidates();
         const ObstacleView<2> h = host.obstacles(), d = device.obstacles();
-        for (Index a = 0; a <= host.size(); ++a) ASSERT_EQ(d.offset[a], h.offset[a]) << "seed " << seed << ", particle " << a;
+        for (Index a = 0; a <= host.size(); ++a)
+          ASSERT_EQ(d.offset[a], h.offset[a]) << "seed " << seed << ", particle " << a;
         ASSERT_GT(h.offset[host.size()], 0) << "seed " << seed << ": no candidates";
         for (Index c = 0; c < h.offset[host.size()]; ++c) {
           ASSERT_EQ(d.point[c][0], h.point[c][0]) << "seed " << seed << ", candidate " << c;

@@ -62,8 +62,10 @@ class TestOutputRoot : public ::testing::Environment {
   }
   void TearDown() override {
     if (!fs::exists(path())) return;
-    if (::testing::UnitTest::GetInstance()->Passed()) fs::remove_all(path());
-    else std::cerr << "the runs' outputs are kept in " << path().string() << "\n";
+    if (::testing::UnitTest::GetInstance()->Passed())
+      fs::remove_all(path());
+    else
+      std::cerr << "the runs' outputs are kept in " << path().string() << "\n";
   }
 };
 inline ::testing::Environment* const kTestOutputRoot = ::testing::AddGlobalTestEnvironment(new TestOutputRoot);

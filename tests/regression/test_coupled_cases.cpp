@@ -103,10 +103,12 @@ TEST(CoupledPlate, RestartFollowsTheUninterruptedRun) {
   const auto same_folder = run_small_plate(full, " --restart " + snapshot.string());
   EXPECT_NE(same_folder.status, 0);
   EXPECT_NE(same_folder.output.find("another folder"), std::string::npos) << same_folder.output;
-  const auto ended = run_small_plate(fresh_dir("coupled_plate_ended"), " --set end_time=0.005 --restart " + snapshot.string());
+  const auto ended =
+      run_small_plate(fresh_dir("coupled_plate_ended"), " --set end_time=0.005 --restart " + snapshot.string());
   EXPECT_NE(ended.status, 0);
   EXPECT_NE(ended.output.find("not before end_time"), std::string::npos) << ended.output;
-  const auto other_case = run_small_plate(fresh_dir("coupled_plate_other"), " --set dx=0.02 --restart " + snapshot.string());
+  const auto other_case =
+      run_small_plate(fresh_dir("coupled_plate_other"), " --set dx=0.02 --restart " + snapshot.string());
   EXPECT_NE(other_case.status, 0);
   EXPECT_NE(other_case.output.find("not a snapshot of this case"), std::string::npos) << other_case.output;
 }
@@ -187,7 +189,8 @@ void expect_gate_tip_like_references(const std::string& name, double end, const 
   ASSERT_EQ(r.status, 0) << r.output;
   double lo = 1e300, hi = -1e300;
   for (const char* key : {"khayyer_2018_isph_sph", "yang_2012_sph_fem", "ng_2020_sph_vcpm_alpha_1"}) {
-    const auto rows = read_reference(std::string("antoci_2007_elastic_gate/ng_2020_elastic_dam_break_x_displacement_") + key + ".csv");
+    const auto rows = read_reference(std::string("antoci_2007_elastic_gate/ng_2020_elastic_dam_break_x_displacement_") +
+                                     key + ".csv");
     ASSERT_GT(rows.size(), 2u) << key;
     const double at_end = interpolate(rows, end);
     lo = std::min(lo, at_end), hi = std::max(hi, at_end);

@@ -36,8 +36,9 @@ TEST(DebugDevice, DamBreakGivesTheHostsBits) {
 }
 
 TEST(DebugDevice, WeaklyCompressibleGateGivesTheHostsBits) {
-  expect_debug_device_gives_the_hosts_bits("debug_gate_wcsph", "elastic_gate.toml",
-                                           " --set end_time=0.002 --set output.interval=0.0005 --set fluid.model=\"wcsph\"");
+  expect_debug_device_gives_the_hosts_bits(
+      "debug_gate_wcsph", "elastic_gate.toml",
+      " --set end_time=0.002 --set output.interval=0.0005 --set fluid.model=\"wcsph\"");
 }
 
 // Moving walls, a moving clamp and the clamp's work.

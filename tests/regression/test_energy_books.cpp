@@ -31,8 +31,8 @@ std::string metre_column_plate(const fs::path& out, const std::string& interacti
 
 // The dam break at a/dx = 20 with the stability map's walls (cases/studies/stability_dam_break.toml).
 std::string coarse_dam_break(const fs::path& out, const std::string& shifting, const std::string& end_time) {
-  return "run " + kCases + "dam_break.toml --quiet --out " + out.string() + " --set dx=0.0073 --set end_time=" +
-         end_time + " --set fluid.shifting.type=\"" + shifting +
+  return "run " + kCases + "dam_break.toml --quiet --out " + out.string() +
+         " --set dx=0.0073 --set end_time=" + end_time + " --set fluid.shifting.type=\"" + shifting +
          "\""
          " --set output.snapshot_interval=0.05"
          " --set 'bodies.floor.shape={type=\"rectangle\",min=[-0.0219,-0.0219],max=[0.6059,0.0]}'"

@@ -45,10 +45,11 @@ const std::string kTankWalls =
 // material, then `bodies` (its [[bodies]] and [[probes]] tables).
 fs::path write_water_case(const fs::path& file, const std::string& name, double dx, double end_time,
                           const std::string& bodies) {
-  std::ofstream(file) << "name = \"" << name << "\"\ndimension = 2\ndx = " << dx << "\nend_time = " << end_time
-                      << "\ngravity = [0.0, -9.81]\n[stages]\nfluid = true\n[output]\ninterval = 0.01\n"
-                         "[[materials]]\nname = \"water\"\nmodel = \"newtonian\"\ndensity = 1000.0\nviscosity = 1.0e-6\n"
-                      << bodies;
+  std::ofstream(file)
+      << "name = \"" << name << "\"\ndimension = 2\ndx = " << dx << "\nend_time = " << end_time
+      << "\ngravity = [0.0, -9.81]\n[stages]\nfluid = true\n[output]\ninterval = 0.01\n"
+         "[[materials]]\nname = \"water\"\nmodel = \"newtonian\"\ndensity = 1000.0\nviscosity = 1.0e-6\n"
+      << bodies;
   return file;
 }
 
@@ -122,9 +123,9 @@ TEST(HydrostaticTank, ThreeDimensionalStillWater) {
 // fastest particle below 2 % of sqrt(g H).
 TEST(HydrostaticTank, WeaklyCompressibleStillWater) {
   const fs::path out = fresh_dir("hydrostatic_wcsph");
-  const auto r = isph("run " + kCases + "hydrostatic_tank.toml --quiet --out " + out.string() +
-                      " --set dx=0.05 --set end_time=2 --set output.snapshots=false --set fluid.model=\"wcsph\"" +
-                      kTankWalls);
+  const auto r =
+      isph("run " + kCases + "hydrostatic_tank.toml --quiet --out " + out.string() +
+           " --set dx=0.05 --set end_time=2 --set output.snapshots=false --set fluid.model=\"wcsph\"" + kTankWalls);
   ASSERT_EQ(r.status, 0) << r.output;
   auto p = read_csv(out / "probes.csv");
   const double rho_g_h = 1000 * 9.81 * 1.0;
@@ -152,7 +153,8 @@ TEST(HydrostaticTank, ViscousLiquidStaysStillWhereTheSurfaceMeetsTheWalls) {
   const fs::path out = fresh_dir("hydrostatic_viscous");
   const auto r = isph("run " + kCases + "hydrostatic_tank.toml --quiet --out " + out.string() +
                       " --set dx=0.05 --set end_time=2 --set output.snapshots=false"
-                      " --set materials.water.viscosity=0.03" + kTankWalls);
+                      " --set materials.water.viscosity=0.03" +
+                      kTankWalls);
   ASSERT_EQ(r.status, 0) << r.output;
   auto p = read_csv(out / "probes.csv");
   double fastest = 0;
@@ -169,8 +171,8 @@ TEST(HydrostaticTank, ViscousLiquidStaysStillWhereTheSurfaceMeetsTheWalls) {
 void expect_surge_front(const std::string& name, double dx, const std::string& sets, double measured_rmse) {
   const fs::path out = fresh_dir(name);
   const double a = 0.146, g = 9.81;
-  const auto r = isph("run " + kCases + "dam_break.toml --quiet --out " + out.string() + " --set dx=" +
-                      std::to_string(dx) + " --set end_time=0.2441 --set output.snapshots=false" + sets);
+  const auto r = isph("run " + kCases + "dam_break.toml --quiet --out " + out.string() +
+                      " --set dx=" + std::to_string(dx) + " --set end_time=0.2441 --set output.snapshots=false" + sets);
   ASSERT_EQ(r.status, 0) << r.output;  // completed: no blow-up, no particle escaped
   // No fluid through the walls: none half a spacing behind a wall's surface. Particles do cross the
   // surface by less (measured 2026-11-23, docs/VALIDATION.md 14): at a/dx = 20 (ISPH) one particle for
@@ -314,7 +316,8 @@ namespace {
 // Start-up Couette flow (cases/couette.toml: H = 1 mm, U = 1.25e-5 m/s, water) at H/dx = 10 to t = 0.3 s
 // (t nu/H^2 = 0.3), into a folder of its own; and its series solution (Batchelor 1967)
 //   u(y, t) = U y/H + sum_{n>=1} (2U/(n pi)) (-1)^n sin(n pi y/H) exp(-nu n^2 pi^2 t/H^2).
-constexpr double kCouetteH = 1e-3, kCouetteU = 1.25e-5, kCouetteNu = 1e-6, kCouetteRho = 1000, kPi = 3.14159265358979323846;
+constexpr double kCouetteH = 1e-3, kCouetteU = 1.25e-5, kCouetteNu = 1e-6, kCouetteRho = 1000,
+                 kPi = 3.14159265358979323846;
 
 fs::path run_coarse_couette(const std::string& name) {
   const fs::path out = fresh_dir(name);
@@ -328,7 +331,8 @@ double couette_series(double y, double t) {
   const double H = kCouetteH, U = kCouetteU;
   double u = U * y / H;
   for (int n = 1; n < 200; ++n)
-    u += 2 * U / (n * kPi) * (n % 2 ? -1 : 1) * std::sin(n * kPi * y / H) * std::exp(-kCouetteNu * n * n * kPi * kPi * t / (H * H));
+    u += 2 * U / (n * kPi) * (n % 2 ? -1 : 1) * std::sin(n * kPi * y / H) *
+         std::exp(-kCouetteNu * n * n * kPi * kPi * t / (H * H));
   return u;
 }
 
@@ -350,7 +354,8 @@ TEST(Couette, CoarseStartUpProfile) {
 
 // The moving plate's work on the water is its shear stress times its speed: per unit depth, over one
 // plate length L = H (the periodic cell),
-//   W(t) = L U int_0^t mu du/dy(H, t') dt' = (mu U^2 L/H) (t + 2 sum_n (H^2/(nu n^2 pi^2)) (1 - exp(-nu n^2 pi^2 t/H^2))),
+//   W(t) = L U int_0^t mu du/dy(H, t') dt' = (mu U^2 L/H) (t + 2 sum_n (H^2/(nu n^2 pi^2)) (1 - exp(-nu n^2 pi^2
+//   t/H^2))),
 // and the water keeps K(t) = (rho L/2) int_0^H u^2 dy of it; the rest, W - K, is dissipated. The
 // boundary_work of energy.csv must follow W within 3 % and the kinetic energy K within 5 % from
 // t = 0.05 s (before, the start's shear layer is thinner than a particle); so the total K - W falls.
@@ -359,7 +364,8 @@ TEST(Couette, PlateWorkIsItsShearStressTimesItsSpeed) {
   const double H = kCouetteH, U = kCouetteU, nu = kCouetteNu, mu = kCouetteRho * nu, L = H;
   auto work = [&](double t) {
     double s = t;
-    for (int n = 1; n < 2000; ++n) s += 2 * H * H / (nu * n * n * kPi * kPi) * (1 - std::exp(-nu * n * n * kPi * kPi * t / (H * H)));
+    for (int n = 1; n < 2000; ++n)
+      s += 2 * H * H / (nu * n * n * kPi * kPi) * (1 - std::exp(-nu * n * n * kPi * kPi * t / (H * H)));
     return mu * U * U * L / H * s;
   };
   auto kinetic = [&](double t) {  // Simpson's rule over 200 intervals
@@ -424,17 +430,20 @@ TEST(BadFluidInput, FailedPressureSolveStopsTheRun) {
 TEST(EscapedParticles, RemovedAndCountedOrTheRunStops) {
   const fs::path out = fresh_dir("escape");
   fs::create_directories(out);
-  const fs::path case_file = write_water_case(
-      out / "thrown.toml", "thrown", 0.05, 0.2,
-      "[[bodies]]\nname = \"water\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
-      "shape = { type = \"rectangle\", min = [0.0, 0.0], max = [1.0, 0.5] }\n"
-      "[[bodies]]\nname = \"drop\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
-      "shape = { type = \"rectangle\", min = [0.425, 0.6], max = [0.575, 0.75] }\n"
-      "initial_velocity = { type = \"uniform\", value = [0.0, 8.0] }\n"
-      "[[bodies]]\nname = \"floor\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [-0.15, -0.15], max = [1.15, 0.0] }\n"
-      "[[bodies]]\nname = \"left\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [-0.15, 0.0], max = [0.0, 0.8] }\n"
-      "[[bodies]]\nname = \"right\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [1.0, 0.0], max = [1.15, 0.8] }\n"
-      "[[probes]]\nname = \"bottom\"\ntype = \"pressure\"\npoint = [0.5, 0.05]\n");
+  const fs::path case_file =
+      write_water_case(out / "thrown.toml", "thrown", 0.05, 0.2,
+                       "[[bodies]]\nname = \"water\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
+                       "shape = { type = \"rectangle\", min = [0.0, 0.0], max = [1.0, 0.5] }\n"
+                       "[[bodies]]\nname = \"drop\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
+                       "shape = { type = \"rectangle\", min = [0.425, 0.6], max = [0.575, 0.75] }\n"
+                       "initial_velocity = { type = \"uniform\", value = [0.0, 8.0] }\n"
+                       "[[bodies]]\nname = \"floor\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [-0.15, "
+                       "-0.15], max = [1.15, 0.0] }\n"
+                       "[[bodies]]\nname = \"left\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [-0.15, "
+                       "0.0], max = [0.0, 0.8] }\n"
+                       "[[bodies]]\nname = \"right\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [1.0, "
+                       "0.0], max = [1.15, 0.8] }\n"
+                       "[[probes]]\nname = \"bottom\"\ntype = \"pressure\"\npoint = [0.5, 0.05]\n");
   const auto removed = isph("run " + case_file.string() + " --out " + (out / "remove").string());
   ASSERT_EQ(removed.status, 0) << removed.output;
   EXPECT_NE(removed.output.find("thrown out over the walls were removed"), std::string::npos) << removed.output;
@@ -447,8 +456,8 @@ TEST(EscapedParticles, RemovedAndCountedOrTheRunStops) {
   auto p = read_csv(out / "remove" / "probes.csv");
   EXPECT_NEAR(p["bottom.p"].back(), 1000 * 9.81 * 0.45, 0.05 * 1000 * 9.81 * 0.45);
 
-  const auto stopped = isph("run " + case_file.string() + " --quiet --out " + (out / "stop").string() +
-                            " --set fluid.escape=stop");
+  const auto stopped =
+      isph("run " + case_file.string() + " --quiet --out " + (out / "stop").string() + " --set fluid.escape=stop");
   EXPECT_EQ(stopped.status, 3) << stopped.output;
   EXPECT_NE(read_file(out / "stop" / "summary.json").find("escaped the tank"), std::string::npos);
 }
@@ -461,14 +470,16 @@ TEST(EscapedParticles, RemovedAndCountedOrTheRunStops) {
 TEST(WallFaces, SprayLandsOnTheTopOfTheHighestWall) {
   const fs::path out = fresh_dir("bench");
   fs::create_directories(out);
-  const fs::path case_file = write_water_case(
-      out / "bench.toml", "bench", 0.01, 0.6,
-      "[[bodies]]\nname = \"water\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
-      "shape = { type = \"rectangle\", min = [0.05, 0.0], max = [0.1, 0.05] }\n"
-      "initial_velocity = { type = \"uniform\", value = [0.6, 2.0] }\n"
-      "[[bodies]]\nname = \"floor\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [-0.03, -0.03], max = [0.2, 0.0] }\n"
-      "[[bodies]]\nname = \"left\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [-0.03, 0.0], max = [0.0, 0.15] }\n"
-      "[[bodies]]\nname = \"bench\"\nkind = \"wall\"\nshape = { type = \"rectangle\", min = [0.2, -0.03], max = [0.4, 0.15] }\n");
+  const fs::path case_file = write_water_case(out / "bench.toml", "bench", 0.01, 0.6,
+                                              "[[bodies]]\nname = \"water\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
+                                              "shape = { type = \"rectangle\", min = [0.05, 0.0], max = [0.1, 0.05] }\n"
+                                              "initial_velocity = { type = \"uniform\", value = [0.6, 2.0] }\n"
+                                              "[[bodies]]\nname = \"floor\"\nkind = \"wall\"\nshape = { type = "
+                                              "\"rectangle\", min = [-0.03, -0.03], max = [0.2, 0.0] }\n"
+                                              "[[bodies]]\nname = \"left\"\nkind = \"wall\"\nshape = { type = "
+                                              "\"rectangle\", min = [-0.03, 0.0], max = [0.0, 0.15] }\n"
+                                              "[[bodies]]\nname = \"bench\"\nkind = \"wall\"\nshape = { type = "
+                                              "\"rectangle\", min = [0.2, -0.03], max = [0.4, 0.15] }\n");
   const auto r = isph("run " + case_file.string() + " --quiet --out " + (out / "run").string());
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string summary = read_file(out / "run" / "summary.json");

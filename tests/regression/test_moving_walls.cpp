@@ -42,15 +42,18 @@ shape = { type = "rectangle", min = [0.0, 0.0], max = [0.2, 0.1] }
 name = "floor"
 kind = "wall"
 shape = { type = "rectangle", min = [-0.015, -0.015], max = [0.215, 0.0] }
-)" + motion + R"([[bodies]]
+)" + motion +
+         R"([[bodies]]
 name = "left"
 kind = "wall"
 shape = { type = "rectangle", min = [-0.015, 0.0], max = [0.0, 0.15] }
-)" + motion + R"([[bodies]]
+)" + motion +
+         R"([[bodies]]
 name = "right"
 kind = "wall"
 shape = { type = "rectangle", min = [0.2, 0.0], max = [0.215, 0.15] }
-)" + motion + R"([[probes]]
+)" + motion +
+         R"([[probes]]
 name = "bottom"
 type = "pressure"
 point = [0.1, 0.01]
@@ -163,7 +166,8 @@ point = [0.005, 0.05]
 )";
   for (const std::string integrator : {"rk4", "verlet"}) {
     const fs::path run = out / integrator;
-    const auto r = isph("run " + file.string() + " --quiet --out " + run.string() + " --set structure.integrator=" + integrator);
+    const auto r =
+        isph("run " + file.string() + " --quiet --out " + run.string() + " --set structure.integrator=" + integrator);
     ASSERT_EQ(r.status, 0) << r.output;
     const EnergyBooks books = energy_books(read_csv(run / "energy.csv"));
     EXPECT_GT(books.work_range, 0) << integrator;

@@ -149,8 +149,8 @@ TEST(MultiResolution, RefinementOneIsTheUniformCase) {
   const fs::path folder = fresh_dir("multiresolution_uniform");
   const fs::path file = still_water_case(folder);
   const auto run = [&](const std::string& name, const std::string& sets) {
-    const auto r = isph("run " + file.string() + " --quiet --out " + (folder / name).string() +
-                        " --set end_time=0.1" + sets);
+    const auto r =
+        isph("run " + file.string() + " --quiet --out " + (folder / name).string() + " --set end_time=0.1" + sets);
     EXPECT_EQ(r.status, 0) << r.output;
     return read_file(folder / name / "probes.csv") + read_file(folder / name / "energy.csv");
   };
@@ -223,14 +223,14 @@ TEST(MultiResolution, ElasticGateOpensAlikeWithEveryElasticLaw) {
 // of the static one, peak 1.76; mean force on the plate 4,918 N/m against the column's 4,905 N/m.
 TEST(MultiResolution, HydrostaticPlateSagsByTheStaticDeflection) {
   const fs::path out = fresh_dir("multiresolution_plate");
-  const auto r = isph(
-      "run " + kCases + "hydrostatic_plate.toml --quiet --out " + out.string() +
-      " --set end_time=0.1 --set output.interval=0.001 --set output.snapshots=false"
-      " --set 'bodies.water.shape={type=\"rectangle\",min=[0.0,0.0],max=[1.0,0.5]}'"
-      " --set 'bodies.left_wall.shape={type=\"rectangle\",min=[-0.075,0.0],max=[0.0,0.6]}'"
-      " --set 'bodies.right_wall.shape={type=\"rectangle\",min=[1.0,0.0],max=[1.075,0.6]}'");
+  const auto r = isph("run " + kCases + "hydrostatic_plate.toml --quiet --out " + out.string() +
+                      " --set end_time=0.1 --set output.interval=0.001 --set output.snapshots=false"
+                      " --set 'bodies.water.shape={type=\"rectangle\",min=[0.0,0.0],max=[1.0,0.5]}'"
+                      " --set 'bodies.left_wall.shape={type=\"rectangle\",min=[-0.075,0.0],max=[0.0,0.6]}'"
+                      " --set 'bodies.right_wall.shape={type=\"rectangle\",min=[1.0,0.0],max=[1.075,0.6]}'");
   ASSERT_EQ(r.status, 0) << r.output;
-  const double static_deflection = 12 * 9.81 * (1 - 0.34 * 0.34) * (1000 * 0.5 + 2700 * 0.05) / (384 * 67.5e9 * 0.05 * 0.05 * 0.05);
+  const double static_deflection =
+      12 * 9.81 * (1 - 0.34 * 0.34) * (1000 * 0.5 + 2700 * 0.05) / (384 * 67.5e9 * 0.05 * 0.05 * 0.05);
   const auto probes = read_csv(out / "probes.csv");
   const auto& t = probes.at("time");
   const auto& uy = probes.at("midspan.uy");

@@ -18,9 +18,9 @@ TEST(Cantilever, CoarseLinearTipDeflection) {
   ASSERT_EQ(r.status, 0) << r.output;
   auto p = read_csv(out / "probes.csv");
   const double uy = p["tip.uy"].back(), ux = p["tip.ux"].back();
-  EXPECT_LT(uy, 0.0);                                 // bends downward, with the load
-  EXPECT_NEAR(-uy, 0.3359e-3, 0.02 * 0.3359e-3);      // within 2 % at 5 particles
-  EXPECT_LT(std::abs(ux), 0.02 * std::abs(uy));        // small: horizontal shortening is second order
+  EXPECT_LT(uy, 0.0);                             // bends downward, with the load
+  EXPECT_NEAR(-uy, 0.3359e-3, 0.02 * 0.3359e-3);  // within 2 % at 5 particles
+  EXPECT_LT(std::abs(ux), 0.02 * std::abs(uy));   // small: horizontal shortening is second order
   auto e = read_csv(out / "energy.csv");
   EXPECT_LT(e["structure_kinetic"].back(), 1e-3 * e["structure_strain"].back());  // damped to a static state
 }
@@ -90,9 +90,10 @@ TEST(OutputContract, FilesHeadersAndSummary) {
   for (const char* f : {"probes.csv", "energy.csv", "summary.json", "case.resolved.toml"})
     EXPECT_TRUE(fs::exists(out / f)) << f;
   EXPECT_EQ(read_file(out / "probes.csv").substr(0, 24), "time,tip.ux,tip.uy\n0,0,0");
-  EXPECT_EQ(read_file(out / "energy.csv").rfind(
-                "time,fluid_kinetic,fluid_potential,structure_kinetic,structure_potential,structure_strain,"
-                "boundary_work,total\n", 0),
+  EXPECT_EQ(read_file(out / "energy.csv")
+                .rfind("time,fluid_kinetic,fluid_potential,structure_kinetic,structure_potential,structure_strain,"
+                       "boundary_work,total\n",
+                       0),
             0u);
   const std::string s = read_file(out / "summary.json");
   for (const char* key : {"\"case\"", "\"dimension\"", "\"device\"", "\"particles\"", "\"steps\"", "\"simulated_time\"",

@@ -30,7 +30,8 @@ TEST(Study, SmokeStudyWritesTableAndCharts) {
   const fs::path out = fresh_dir("study");
   fs::create_directories(out);
   const std::string cmd = kPython + " " + kSource + "/scripts/study.py " + kCases + "studies/smoke.toml --out " +
-                          out.string() + " --isph " + kIsph + " --threads 1 > " + (out / "study.log").string() + " 2>&1";
+                          out.string() + " --isph " + kIsph + " --threads 1 > " + (out / "study.log").string() +
+                          " 2>&1";
   const int rc = std::system(cmd.c_str());
   ASSERT_TRUE(WIFEXITED(rc) && WEXITSTATUS(rc) == 0) << read_file(out / "study.log");
 

@@ -101,8 +101,7 @@ class CaseLoaderTest : public ScratchDirTest {
   CaseLoaderTest() : ScratchDirTest("isph_case_loader_") {}
 
   // The problems load_case reports (none if it succeeds).
-  static std::vector<std::string> problems(const std::string& path,
-                                           const std::vector<std::string>& overrides = {}) {
+  static std::vector<std::string> problems(const std::string& path, const std::vector<std::string>& overrides = {}) {
     try {
       load_case(path, overrides);
     } catch (const CaseError& e) {
@@ -114,8 +113,7 @@ class CaseLoaderTest : public ScratchDirTest {
 
 // Whether `expected` is one of `problems`; the list is printed when it is not.
 ::testing::AssertionResult reports(const std::vector<std::string>& problems, const std::string& expected) {
-  if (std::find(problems.begin(), problems.end(), expected) != problems.end())
-    return ::testing::AssertionSuccess();
+  if (std::find(problems.begin(), problems.end(), expected) != problems.end()) return ::testing::AssertionSuccess();
   auto failure = ::testing::AssertionFailure()
                  << "\"" << expected << "\" not among the " << problems.size() << " problems:";
   for (const auto& p : problems) failure << "\n  " << p;
@@ -210,8 +208,8 @@ TEST_F(CaseLoaderTest, LatticeOffsetPlacesParticleRowsOnTheFaces) {
   text = kBeam;
   text.replace(text.find("clamps ="), 0, "lattice_offset = [1.0, 0.5]\n");
   const auto path = write("offset.toml", text);
-  EXPECT_TRUE(reports(problems(path),
-                      path + ": bodies[0].lattice_offset: every component must be in [0, 1), in units of the body's spacing (got 1 in component 0)"));
+  EXPECT_TRUE(reports(problems(path), path + ": bodies[0].lattice_offset: every component must be in [0, 1), in units "
+                                             "of the body's spacing (got 1 in component 0)"));
 }
 
 // A traction load gives each loaded free particle traction * dx^(D-1): along the beam's top face, the
@@ -326,7 +324,8 @@ TEST_F(CaseLoaderTest, RefinementMakesAStructureFinerThanTheCase) {
   std::string both = text;
   both.replace(both.find("refinement = 2"), 0, "dx = 0.005\n");
   const auto both_path = write("both.toml", both);
-  EXPECT_TRUE(reports(problems(both_path), both_path + ": bodies[0].dx: give the body's spacing as dx or as refinement, not both"));
+  EXPECT_TRUE(reports(problems(both_path),
+                      both_path + ": bodies[0].dx: give the body's spacing as dx or as refinement, not both"));
   std::string coarse = text;
   coarse.replace(coarse.find("refinement = 2"), 14, "dx = 0.02");
   EXPECT_THROW(build_scene<2>(load_case(write("coarse.toml", coarse))), CaseError);
@@ -334,8 +333,9 @@ TEST_F(CaseLoaderTest, RefinementMakesAStructureFinerThanTheCase) {
   std::string water = kDamBreak;
   water.replace(water.find("shape = { type = \"rectangle\", min = [0, 0]"), 0, "refinement = 2\n");
   const auto bad = write("refined_water.toml", water);
-  EXPECT_TRUE(reports(problems(bad), bad + ": bodies[0].refinement: only for kind = \"structure\"; fluid and walls take "
-                                          "the case's dx (kind = \"fluid\")"));
+  EXPECT_TRUE(reports(problems(bad), bad +
+                                         ": bodies[0].refinement: only for kind = \"structure\"; fluid and walls take "
+                                         "the case's dx (kind = \"fluid\")"));
 }
 
 TEST_F(CaseLoaderTest, UnknownKeysAtEveryLevel) {
@@ -402,8 +402,7 @@ TEST_F(CaseLoaderTest, UnknownMaterialReference) {
   std::string text = kBeam;
   text.replace(text.find("material = \"steel\""), 18, "material = \"stell\"");
   const auto path = write("reference.toml", text);
-  EXPECT_TRUE(
-      reports(problems(path), path + ": bodies[0].material: no material named \"stell\" (known: \"steel\")"));
+  EXPECT_TRUE(reports(problems(path), path + ": bodies[0].material: no material named \"stell\" (known: \"steel\")"));
 }
 
 TEST_F(CaseLoaderTest, ShapeTypeMustMatchTheDimension) {
@@ -480,9 +479,8 @@ TEST_F(CaseLoaderTest, EmptyBoxIsAnError) {
   std::string text = kBeam;
   text.replace(text.find("max = [1, 0.1]"), 14, "max = [1, 0]");
   const auto path = write("flat.toml", text);
-  EXPECT_TRUE(
-      reports(problems(path),
-              path + ": bodies[0].shape.max: must be > min in every component (component 1: min 0, max 0)"));
+  EXPECT_TRUE(reports(problems(path),
+                      path + ": bodies[0].shape.max: must be > min in every component (component 1: min 0, max 0)"));
 }
 
 TEST_F(CaseLoaderTest, FluidStageNeedsFluidBodies) {
@@ -600,8 +598,7 @@ TEST_F(CaseLoaderTest, BadOverrides) {
   const auto p = problems(path, {"kernel.hfactor=1.3", "dx", "materials.copper.density=1", "dx.value=1"});
   EXPECT_TRUE(reports(p, path + ": kernel.hfactor: unknown key"));
   EXPECT_TRUE(reports(p, "--set dx: expected key=value"));
-  EXPECT_TRUE(
-      reports(p, "--set materials.copper.density=1: materials: no element with index or name \"copper\""));
+  EXPECT_TRUE(reports(p, "--set materials.copper.density=1: materials: no element with index or name \"copper\""));
   EXPECT_TRUE(reports(p, "--set dx.value=1: dx: is a float, not a table or an array"));
   EXPECT_EQ(p.size(), 4u);
 }
@@ -918,12 +915,15 @@ motion = { type = "translation", profile = "sine", amplitude = 1, period = 0 }
 )");
   const auto p = problems(path);
   const std::string dir = dir_.string() + "/";
-  EXPECT_TRUE(reports(p, path + ": bodies[4].motion.file: \"" + dir + "unsorted.csv\" line 3: the rows must be sorted "
-                                "by time, strictly increasing (t = 0.4 follows t = 0.5)"));
-  EXPECT_TRUE(reports(p, path + ": bodies[5].motion.file: \"" + dir + "short.csv\" ends at t = 0.5 s, before "
-                                "end_time = 1 s"));
-  EXPECT_TRUE(reports(p, path + ": bodies[7].motion.file: \"" + dir + "words.csv\" line 3: expected two numbers, "
-                                "time and value (got \"0.5, one\")"));
+  EXPECT_TRUE(reports(p, path + ": bodies[4].motion.file: \"" + dir +
+                             "unsorted.csv\" line 3: the rows must be sorted "
+                             "by time, strictly increasing (t = 0.4 follows t = 0.5)"));
+  EXPECT_TRUE(reports(p, path + ": bodies[5].motion.file: \"" + dir +
+                             "short.csv\" ends at t = 0.5 s, before "
+                             "end_time = 1 s"));
+  EXPECT_TRUE(reports(p, path + ": bodies[7].motion.file: \"" + dir +
+                             "words.csv\" line 3: expected two numbers, "
+                             "time and value (got \"0.5, one\")"));
   EXPECT_TRUE(reports(p, path + ": bodies[8].motion.file: cannot open \"" + dir + "missing.csv\""));
   EXPECT_TRUE(reports(p, path + ": bodies[9].motion.pivot: missing required key"));
   EXPECT_TRUE(reports(p, path + ": bodies[9].motion.coefficients: must not be empty"));
@@ -931,8 +931,8 @@ motion = { type = "translation", profile = "sine", amplitude = 1, period = 0 }
   EXPECT_EQ(p.size(), 7u);
 
   // A file that was long enough becomes too short when end_time grows.
-  EXPECT_TRUE(reports(problems(path, {"end_time=3"}),
-                      path + ": bodies[6].motion.file: \"" + dir + "late.csv\" ends at t = 2 s, before end_time = 3 s"));
+  EXPECT_TRUE(reports(problems(path, {"end_time=3"}), path + ": bodies[6].motion.file: \"" + dir +
+                                                          "late.csv\" ends at t = 2 s, before end_time = 3 s"));
 }
 
 TEST_F(CaseLoaderTest, FluidMissingMaterial) {
@@ -991,14 +991,12 @@ kind = "wall"
 shape = { type = "rectangle", min = [0, 0], max = [1, 0.03] }
 )");
   EXPECT_EQ(problems(walls),
-            std::vector<std::string>{
-                walls + ": stages: nothing to run: set stages.structure or stages.fluid to true"});
+            std::vector<std::string>{walls + ": stages: nothing to run: set stages.structure or stages.fluid to true"});
 
   // A displacement probe in a fluid-only case.
   p = problems(write("fluid_probe.toml", kDamBreak + "[[probes]]\nname = \"tip\"\npoint = [0, 0]\n"));
-  EXPECT_EQ(
-      p, std::vector<std::string>{(dir_ / "fluid_probe.toml").string() +
-                                  ": probes[2].type: \"displacement\" probes need stages.structure = true"});
+  EXPECT_EQ(p, std::vector<std::string>{(dir_ / "fluid_probe.toml").string() +
+                                        ": probes[2].type: \"displacement\" probes need stages.structure = true"});
 }
 
 TEST_F(CaseLoaderTest, FluidSettingErrors) {
@@ -1023,18 +1021,17 @@ fallback = "amgx"
   EXPECT_TRUE(reports(p, path + ": fluid.reference_velocity: must be >= 0 (got -1)"));
   EXPECT_TRUE(reports(p, path + ": fluid.turbulence: must be one of \"none\", \"sps\" (got \"les\")"));
   EXPECT_TRUE(reports(p, path + ": fluid.surface_full: must be > surface_threshold (got 1.5 <= 1.5)"));
-  EXPECT_TRUE(reports(p, path + ": fluid.ppe.backend: must be one of \"eigen\", \"hypre\", \"native\", \"cuda\" (got \"petsc\")"));
+  EXPECT_TRUE(reports(
+      p, path + ": fluid.ppe.backend: must be one of \"eigen\", \"hypre\", \"native\", \"cuda\" (got \"petsc\")"));
   EXPECT_TRUE(reports(p, path + ": fluid.ppe.method: must be one of \"bicgstab\", \"gmres\" (got \"cg\")"));
   EXPECT_TRUE(reports(p, path + ": fluid.ppe.tolerance: must be > 0 and < 1 (got 1)"));
   EXPECT_TRUE(reports(p, path + ": fluid.ppe.max_iterations: must be > 0 (got 0)"));
-  EXPECT_TRUE(reports(
-      p, path + ": fluid.ppe.fallback: must be one of \"none\", \"eigen\", \"hypre\" (got \"amgx\")"));
+  EXPECT_TRUE(reports(p, path + ": fluid.ppe.fallback: must be one of \"none\", \"eigen\", \"hypre\" (got \"amgx\")"));
   EXPECT_EQ(p.size(), 10u);
 
   // A threshold above the default full value (1.6 in 2D).
   p = problems(path, {"fluid.surface_full=0", "fluid.surface_threshold=1.7"});
-  EXPECT_TRUE(
-      reports(p, path + ": fluid.surface_full: must be > surface_threshold (got 1.6 (default) <= 1.7)"));
+  EXPECT_TRUE(reports(p, path + ": fluid.surface_full: must be > surface_threshold (got 1.6 (default) <= 1.7)"));
 }
 
 // The PPE tolerance of each coupled step's first interface iteration: 0 (the PPE's own) by default, else
@@ -1062,15 +1059,13 @@ fallback = "eigen"
   auto p = problems(path);
   EXPECT_TRUE(reports(p, path + ": fluid.ppe.preconditioner: \"boomeramg\" is not available with backend = "
                                 "\"eigen\"; must be one of \"ilu\", \"jacobi\", \"none\""));
-  EXPECT_TRUE(
-      reports(p, path + ": fluid.ppe.fallback: must differ from backend (both \"eigen\"), or be \"none\""));
+  EXPECT_TRUE(reports(p, path + ": fluid.ppe.fallback: must differ from backend (both \"eigen\"), or be \"none\""));
   EXPECT_EQ(p.size(), 2u);
 
   p = problems(path, {"fluid.ppe.backend=hypre", "fluid.ppe.preconditioner=ilu", "fluid.ppe.fallback=none"});
-  EXPECT_EQ(p,
-            std::vector<std::string>{path + ": fluid.ppe.preconditioner: \"ilu\" is not available with "
-                                            "backend = \"hypre\"; must be one of \"boomeramg\", \"jacobi\", "
-                                            "\"none\""});
+  EXPECT_EQ(p, std::vector<std::string>{path + ": fluid.ppe.preconditioner: \"ilu\" is not available with "
+                                               "backend = \"hypre\"; must be one of \"boomeramg\", \"jacobi\", "
+                                               "\"none\""});
   p = problems(path, {"fluid.ppe.preconditioner=sor"});
   EXPECT_TRUE(reports(p, path + ": fluid.ppe.preconditioner: must be one of \"ilu\", \"jacobi\", \"none\", "
                                 "\"boomeramg\", \"polynomial\", \"amg\" (got \"sor\")"));
@@ -1097,8 +1092,7 @@ TEST_F(CaseLoaderTest, ShiftingErrors) {
   const auto path = write("shifting.toml", kDamBreak);
   const auto p = problems(path, {"fluid.shifting.type=lind", "fluid.shifting.coefficient=0",
                                  "fluid.shifting.max_fraction=-0.1", "fluid.shifting.taylor_correction=1"});
-  EXPECT_TRUE(
-      reports(p, path + ": fluid.shifting.type: must be one of \"none\", \"xu\", \"ops\" (got \"lind\")"));
+  EXPECT_TRUE(reports(p, path + ": fluid.shifting.type: must be one of \"none\", \"xu\", \"ops\" (got \"lind\")"));
   EXPECT_TRUE(reports(p, path + ": fluid.shifting.coefficient: must be > 0 and <= 1 (got 0)"));
   EXPECT_TRUE(reports(p, path + ": fluid.shifting.max_fraction: must be > 0 (got -0.1)"));
   EXPECT_TRUE(reports(p, path + ": fluid.shifting.taylor_correction: expected a boolean, got an integer"));
@@ -1119,15 +1113,14 @@ TEST_F(CaseLoaderTest, PeriodicAxes) {
   EXPECT_TRUE(reports(p, path + ": periodic.y: expected 2 numbers [lo, hi], got 3"));
   EXPECT_TRUE(reports(p, path + ": periodic.z: only in 3D (dimension = 2)"));
   EXPECT_EQ(p.size(), 3u);
-  EXPECT_TRUE(
-      reports(problems(path, {"periodic.x=[1,0]"}), path + ": periodic.x: hi must be > lo (got [1, 0])"));
+  EXPECT_TRUE(reports(problems(path, {"periodic.x=[1,0]"}), path + ": periodic.x: hi must be > lo (got [1, 0])"));
 }
 
 TEST_F(CaseLoaderTest, FluidOverrides) {
   const auto path = write("dam_break.toml", kDamBreak);
-  const CaseSpec c = load_case(
-      path, {"fluid.shifting.type=none", "fluid.ppe.backend=hypre", "materials.water.viscosity=1e-3",
-             "fluid.courant=0.25", "probes.front.point=[0,0.02]"});
+  const CaseSpec c =
+      load_case(path, {"fluid.shifting.type=none", "fluid.ppe.backend=hypre", "materials.water.viscosity=1e-3",
+                       "fluid.courant=0.25", "probes.front.point=[0,0.02]"});
   EXPECT_EQ(name_of(c.fluid.shifting.type), "none");
   EXPECT_EQ(name_of(c.fluid.ppe.backend), "hypre");
   EXPECT_EQ(name_of(c.fluid.ppe.preconditioner), "boomeramg");

@@ -35,18 +35,18 @@ struct Fill {
     const EmulatedLaunch open;
     std::memcpy(&first, v, 1);
   }
-  if (first != 0xFF) std::_Exit(2);                              // new memory is poisoned
-  if (emulated_host_touches() != start) std::_Exit(3);           // inside a launch: not counted
-  parallel_for(Exec{Device::cuda}, n, Fill{v, 1.0});             // a launch on the debug device
+  if (first != 0xFF) std::_Exit(2);                     // new memory is poisoned
+  if (emulated_host_touches() != start) std::_Exit(3);  // inside a launch: not counted
+  parallel_for(Exec{Device::cuda}, n, Fill{v, 1.0});    // a launch on the debug device
   if (emulated_host_touches() != start) std::_Exit(4);
-  for (Index i = 0; i < n; ++i) v[i] += 1;                       // the host, between launches
-  if (emulated_host_touches() != start + 3) std::_Exit(5);       // each page once
+  for (Index i = 0; i < n; ++i) v[i] += 1;                  // the host, between launches
+  if (emulated_host_touches() != start + 3) std::_Exit(5);  // each page once
   v[0] += 1;
-  if (emulated_host_touches() != start + 3) std::_Exit(6);       // still open until the next launch
+  if (emulated_host_touches() != start + 3) std::_Exit(6);  // still open until the next launch
   parallel_for(Exec{Device::cuda}, 1, Fill{v, 0.0});
   v[n - 1] += 1;
-  if (emulated_host_touches() != start + 4) std::_Exit(7);       // closed again by the launch
-  if (v[n - 1] != 3.0 || v[0] != 0.0) std::_Exit(8);            // and the values are the program's
+  if (emulated_host_touches() != start + 4) std::_Exit(7);  // closed again by the launch
+  if (v[n - 1] != 3.0 || v[0] != 0.0) std::_Exit(8);        // and the values are the program's
   if (!device_accessible(v) || device_accessible(&first)) std::_Exit(9);
   std::_Exit(0);
 }

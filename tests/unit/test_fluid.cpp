@@ -38,8 +38,8 @@ std::string tank_case(double width, double depth, int rows, double freeboard, co
     << "[[bodies]]\nname = \"left\"\nkind = \"wall\"\n"
     << "shape = { type = \"rectangle\", min = [" << -t << ", 0], max = [0, " << depth + freeboard << "] }\n"
     << "[[bodies]]\nname = \"right\"\nkind = \"wall\"\n"
-    << "shape = { type = \"rectangle\", min = [" << width << ", 0], max = [" << width + t << ", "
-    << depth + freeboard << "] }\n";
+    << "shape = { type = \"rectangle\", min = [" << width << ", 0], max = [" << width + t << ", " << depth + freeboard
+    << "] }\n";
   return s.str();
 }
 
@@ -122,8 +122,9 @@ TEST(FreeSurface, ClassifiesAKnownBlock) {
   const int rows = 8, cols = 12;
   const double dx = 0.1, depth = rows * dx;
   std::string text = tank_case(cols * dx, depth, rows, 0.5);
-  text += "[[bodies]]\nname = \"drop\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
-          "shape = { type = \"circle\", center = [0.6, 1.2], radius = 0.04 }\nlattice_origin = [0.55, 1.15]\n";
+  text +=
+      "[[bodies]]\nname = \"drop\"\nkind = \"fluid\"\nmaterial = \"water\"\n"
+      "shape = { type = \"circle\", center = [0.6, 1.2], radius = 0.04 }\nlattice_origin = [0.55, 1.15]\n";
   const CaseSpec spec = load_text(text);
   Scene<2> scene = build_scene<2>(spec);
   IsphSolver<2> solver(std::move(scene.fluid));
@@ -137,9 +138,12 @@ TEST(FreeSurface, ClassifiesAKnownBlock) {
     }
     const Vec<2> x = solver.particles().position[a];
     SurfaceClass expected = SurfaceClass::interior;
-    if (x[1] > 1.0) expected = SurfaceClass::splash;
-    else if (x[1] > depth - dx) expected = SurfaceClass::surface;
-    else if (x[1] > depth - 2 * dx) expected = SurfaceClass::near_surface;
+    if (x[1] > 1.0)
+      expected = SurfaceClass::splash;
+    else if (x[1] > depth - dx)
+      expected = SurfaceClass::surface;
+    else if (x[1] > depth - 2 * dx)
+      expected = SurfaceClass::near_surface;
     EXPECT_EQ(solver.surface_class()[a], expected) << "particle at (" << x[0] << ", " << x[1] << ")";
     ++counted[static_cast<int>(solver.surface_class()[a])];
   }
@@ -231,7 +235,7 @@ TEST(WallGeometry, FloorUnderAFreeStructureFacesUp) {
   for (std::size_t a = 0; a < f.x.size(); ++a) {
     const Vec<2> x = f.x[a];
     if (f.kind[a] != FluidKind::wall || std::abs(x[1] + 0.5 * dx) > 1e-9) continue;  // the floor's top layer
-    if (x[0] > 1.2 && x[0] < 1.4) {  // beneath the gate's free part
+    if (x[0] > 1.2 && x[0] < 1.4) {                                                  // beneath the gate's free part
       EXPECT_NEAR(f.wall_normal[a][0], 0, 1e-12) << "at x = " << x[0];
       EXPECT_NEAR(f.wall_normal[a][1], 1, 1e-12) << "at x = " << x[0];
       EXPECT_NEAR(f.wall_depth[a], 0.5 * dx, 1e-12) << "at x = " << x[0];
@@ -259,7 +263,7 @@ TEST(WallGeometry, TopOfTheHighestWallFacesUp) {
   for (std::size_t a = 0; a < f.x.size(); ++a) {
     const Vec<2> x = f.x[a];
     if (f.kind[a] != FluidKind::wall || x[0] < 1.0) continue;  // the right wall
-    if (std::abs(x[1] - 1.15) < 1e-9 && x[0] < 1.1) {  // its inner top corner
+    if (std::abs(x[1] - 1.15) < 1e-9 && x[0] < 1.1) {          // its inner top corner
       EXPECT_NEAR(f.wall_normal[a][0], -std::sqrt(0.5), 1e-12);
       EXPECT_NEAR(f.wall_normal[a][1], std::sqrt(0.5), 1e-12);
       EXPECT_NEAR(f.wall_depth[a], 0.5 * dx, 1e-12);
@@ -377,7 +381,8 @@ TEST(PpeAssembly, MatchesDenseAssembly) {
     }
   const Index n = static_cast<Index>(x.size());
   std::vector<Real> volume(n, dx * dx), alpha(n), div_u(n), depth(n, 0);
-  std::vector<Vec<2>> wall_velocity(n, Vec<2>::zero()), wall_acceleration(n, Vec<2>::zero()), wall_normal(n, Vec<2>::zero()), normal(n, Vec<2>::zero());
+  std::vector<Vec<2>> wall_velocity(n, Vec<2>::zero()), wall_acceleration(n, Vec<2>::zero()),
+      wall_normal(n, Vec<2>::zero()), normal(n, Vec<2>::zero());
   std::vector<SurfaceClass> cls(n, SurfaceClass::interior);
   for (Index a = 0; a < n; ++a) {
     div_u[a] = uniform(rng) - 0.5;
@@ -394,7 +399,8 @@ TEST(PpeAssembly, MatchesDenseAssembly) {
   const OperatorView<2> op{n, x.data(), volume.data(), nl.offset.data(), nl.index.data(), kernel};
   std::vector<Mat<2>> L(n);
   parallel_for(Exec{}, n, GradientCorrection<2>{op, L.data()});
-  const FluidView<2> view{op, kind.data(), wall_velocity.data(), wall_acceleration.data(), wall_normal.data(), depth.data(), dx};
+  const FluidView<2> view{op,           kind.data(), wall_velocity.data(), wall_acceleration.data(), wall_normal.data(),
+                          depth.data(), dx};
   const Index pinned = -1;
   CsrMatrix A;
   A.rows = n;
@@ -404,9 +410,9 @@ TEST(PpeAssembly, MatchesDenseAssembly) {
   A.val.resize(A.row_offset[n]);
   std::vector<double> rhs(n);
   std::vector<Vec<2>> moment(n);
-  parallel_for(Exec{}, n, PpeRowFill<2>{view, L.data(), alpha.data(), div_u.data(), density, dt, gravity, cls.data(),
-                                        normal.data(), true, pinned, A.col.data(), A.val.data(), rhs.data(),
-                                        moment.data()});
+  parallel_for(Exec{}, n,
+               PpeRowFill<2>{view, L.data(), alpha.data(), div_u.data(), density, dt, gravity, cls.data(),
+                             normal.data(), true, pinned, A.col.data(), A.val.data(), rhs.data(), moment.data()});
 
   // Dense reference.
   std::vector<std::vector<double>> dense(n, std::vector<double>(n, 0.0)), csr(n, std::vector<double>(n, 0.0));
@@ -416,8 +422,8 @@ TEST(PpeAssembly, MatchesDenseAssembly) {
     if (kind[a] == FluidKind::wall) {
       bool wet = false;
       for (Index b = 0; b < n; ++b)
-        wet = wet || (kind[b] == FluidKind::fluid && alpha[b] > 0 &&
-                      norm2(x[a] - x[b]) < kernel.support() * kernel.support());
+        wet = wet ||
+              (kind[b] == FluidKind::fluid && alpha[b] > 0 && norm2(x[a] - x[b]) < kernel.support() * kernel.support());
       double sum = 0;
       for (Index b = 0; b < n; ++b) {
         const Vec<2> r = x[a] - x[b];
@@ -625,7 +631,8 @@ TEST(WeaklyCompressible, StillTankStartsHydrostaticAndStaysStill) {
   for (Index a = 0; a < solver.particles().size(); ++a) {
     const Vec<2> x = solver.particles().position[a];
     if (solver.particles().kind[a] != FluidKind::wall || x[1] > 0 || x[0] < 0.2 || x[0] > 0.8 || x[1] < -0.05) continue;
-    EXPECT_NEAR(solver.particles().pressure[a], 1000 * 9.81 * (depth - x[1]), 0.005 * rho_g_h) << "at (" << x[0] << ", " << x[1] << ")";
+    EXPECT_NEAR(solver.particles().pressure[a], 1000 * 9.81 * (depth - x[1]), 0.005 * rho_g_h)
+        << "at (" << x[0] << ", " << x[1] << ")";
     ++floor_particles;
   }
   EXPECT_GT(floor_particles, 10);

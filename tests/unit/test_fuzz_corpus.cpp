@@ -120,8 +120,10 @@ TEST(FuzzCorpus, EveryRefusalNamesTheFileTheKeyAndTheReason) {
     }
   }
   fs::remove_all(dir);
-  std::printf("corpus: %d inputs loaded, %d refused\n| kind of problem | refused inputs with it | problems |\n|---|---:|---:|\n",
-              loaded, refused);
+  std::printf(
+      "corpus: %d inputs loaded, %d refused\n| kind of problem | refused inputs with it | problems "
+      "|\n|---|---:|---:|\n",
+      loaded, refused);
   for (const auto& [kind, count] : inputs_of_kind)
     std::printf("| %s | %d | %d |\n", kind.c_str(), count, problems_of_kind[kind]);
   EXPECT_GT(refused, 0);

@@ -138,7 +138,8 @@ void check_neighbours_against_brute_force(bool groups) {
   for (std::size_t i = 0; i < x.size(); ++i) {
     std::vector<Index> expect;
     for (std::size_t j = 0; j < x.size(); ++j)
-      if (i != j && norm2(x[i] - x[j]) < radius * radius && group[i] == group[j]) expect.push_back(static_cast<Index>(j));
+      if (i != j && norm2(x[i] - x[j]) < radius * radius && group[i] == group[j])
+        expect.push_back(static_cast<Index>(j));
     std::vector<Index> got(nl.index.begin() + nl.offset[i], nl.index.begin() + nl.offset[i + 1]);
     std::sort(got.begin(), got.end());
     ASSERT_EQ(got, expect) << "particle " << i;

@@ -1,5 +1,3 @@
-#include "io/output.hpp"
-
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -9,6 +7,8 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+
+#include "io/output.hpp"
 
 #ifdef ISPH_HAVE_HDF5
 #include <hdf5.h>
@@ -37,8 +37,7 @@ class OutputTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("isph_test_output_" + std::to_string(::getpid()) + "_" + info->name());
+    dir_ = fs::temp_directory_path() / ("isph_test_output_" + std::to_string(::getpid()) + "_" + info->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -123,8 +122,7 @@ TEST_F(OutputTest, WriteFileAtomicallyNamesThePathOnFailure) {
     FAIL() << "expected an exception";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("No such file or directory"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("No such file or directory"), std::string::npos) << e.what();
   }
 }
 
@@ -225,12 +223,9 @@ TEST_F(OutputTest, SnapshotWriterWritesHdf5FilesAndXdmfIndex) {
   ASSERT_TRUE(SnapshotWriter::available());
   SnapshotWriter writer(dir_.string(), 2);
   const std::vector<std::array<double, 3>> positions{{0.0, 1.0, 7.0}, {2.5, -3.0, 7.0}};
-  writer.write(0.0, positions,
-               {{"pressure", 1, {10.0, 20.0}}, {"velocity", 3, {1, 2, 0, 3, 4, 0}}});
+  writer.write(0.0, positions, {{"pressure", 1, {10.0, 20.0}}, {"velocity", 3, {1, 2, 0, 3, 4, 0}}});
   writer.write(0.25, positions,
-               {{"pressure", 1, {11.0, 21.0}},
-                {"stress", 4, {1, 2, 3, 4, 5, 6, 7, 8}},
-                {"kind", 1, {0.0, 2.0}}});
+               {{"pressure", 1, {11.0, 21.0}}, {"stress", 4, {1, 2, 3, 4, 5, 6, 7, 8}}, {"kind", 1, {0.0, 2.0}}});
   EXPECT_EQ(writer.count(), 2);
 
   const fs::path snapshots = dir_ / "snapshots";
@@ -280,8 +275,7 @@ TEST_F(OutputTest, SnapshotWriterRejectsInconsistentFields) {
   const std::vector<std::array<double, 3>> positions{{0, 0, 0}, {1, 1, 1}};
   EXPECT_THROW(writer.write(0.0, positions, {{"p", 1, {1.0}}}), std::invalid_argument);
   EXPECT_THROW(writer.write(0.0, positions, {{"v", 3, {1, 2, 3, 4, 5}}}), std::invalid_argument);
-  EXPECT_THROW(writer.write(0.0, positions, {{"p", 1, {1, 2}}, {"p", 1, {1, 2}}}),
-               std::invalid_argument);
+  EXPECT_THROW(writer.write(0.0, positions, {{"p", 1, {1, 2}}, {"p", 1, {1, 2}}}), std::invalid_argument);
   EXPECT_THROW(writer.write(0.0, positions, {{"position", 1, {1, 2}}}), std::invalid_argument);
   EXPECT_THROW(writer.write(0.0, positions, {{"a/b", 1, {1, 2}}}), std::invalid_argument);
   EXPECT_EQ(writer.count(), 0);

@@ -35,7 +35,8 @@ TEST(Parallel, ReduceIsExactForAnyThreadCount) {
     omp_set_num_threads(t);
     EXPECT_EQ(parallel_reduce(Exec{}, n, -1e300, ScalarAt{v.data()}, MaxOf{}), *std::max_element(v.begin(), v.end()));
     EXPECT_EQ(parallel_reduce(Exec{}, n, 1e300, ScalarAt{v.data()}, MinOf{}), *std::min_element(v.begin(), v.end()));
-    EXPECT_EQ(parallel_reduce(Exec{}, n, Index{0}, IntAt{k.data()}, IntegerSum{}), std::accumulate(k.begin(), k.end(), 0));
+    EXPECT_EQ(parallel_reduce(Exec{}, n, Index{0}, IntAt{k.data()}, IntegerSum{}),
+              std::accumulate(k.begin(), k.end(), 0));
     EXPECT_EQ(parallel_reduce(Exec{}, 0, -7.0, ScalarAt{v.data()}, MaxOf{}), -7.0);
   }
   omp_set_num_threads(threads);

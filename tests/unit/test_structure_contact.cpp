@@ -24,8 +24,7 @@ struct Verdict {
 };
 
 Verdict contact_verdict(const std::vector<Vec<2>>& x, const std::vector<FluidKind>& kind,
-                                        const std::vector<Vec<2>>& normal, const std::vector<Real>& depth,
-                                        FluidKind body) {
+                        const std::vector<Vec<2>>& normal, const std::vector<Real>& depth, FluidKind body) {
   const Index n = static_cast<Index>(x.size());
   const auto kernel = SmoothingKernel<2>::make(KernelType::cubic_spline, 1.2 * dx);
   const NeighbourList nl = build_neighbour_list<2>(x, kernel.support());
@@ -57,8 +56,10 @@ struct TiltedBlock {
         kind.push_back(FluidKind::structure);
         const Real to_left = i, to_bottom = j, to_right = cols - 1 - i, to_top = rows - 1 - j;
         const Real nearest = std::fmin(std::fmin(to_left, to_bottom), std::fmin(to_right, to_top));
-        Vec<2> n = nearest == to_left ? Vec<2>{{-1, 0}} : nearest == to_bottom ? Vec<2>{{0, -1}}
-                   : nearest == to_right ? Vec<2>{{1, 0}} : Vec<2>{{0, 1}};
+        Vec<2> n = nearest == to_left     ? Vec<2>{{-1, 0}}
+                   : nearest == to_bottom ? Vec<2>{{0, -1}}
+                   : nearest == to_right  ? Vec<2>{{1, 0}}
+                                          : Vec<2>{{0, 1}};
         normal.push_back(turn(n));
         depth.push_back((nearest + 0.5) * dx);
       }
@@ -73,7 +74,9 @@ struct TiltedBlock {
     depth.push_back(0);
   }
 
-  std::vector<unsigned char> inside() const { return contact_verdict(x, kind, normal, depth, FluidKind::structure).inside; }
+  std::vector<unsigned char> inside() const {
+    return contact_verdict(x, kind, normal, depth, FluidKind::structure).inside;
+  }
 };
 
 // The walls of a tank's lower-left corner, three layers thick on the lattice, the fluid's first lattice

@@ -50,7 +50,10 @@ void deform(TlsphSolver<2>& solver, const Mat<2>& A, const Vec<2>& c) {
 TEST(Tlsph, DeformationGradientExactForAffineMaps) {
   TlsphSolver<2> solver(block(12, 6, 0.01, 0, StructureIntegrator::rk4));
   Mat<2> A;
-  A(0, 0) = 1.3; A(0, 1) = 0.2; A(1, 0) = -0.15; A(1, 1) = 0.8;
+  A(0, 0) = 1.3;
+  A(0, 1) = 0.2;
+  A(1, 0) = -0.15;
+  A(1, 1) = 0.8;
   deform(solver, A, {{0.05, -0.02}});
   solver.update_stress();
   for (Index a = 0; a < solver.size(); ++a)
@@ -63,7 +66,9 @@ TEST(Tlsph, DeformationGradientExactForAffineMaps) {
 // symmetric hourglass energy of such a field is zero (it does not stiffen smooth bending).
 TEST(Tlsph, QuadraticGradientIsExactForQuadraticFields) {
   const Real k = 2.0;  // u = (-k x y, k x^2 / 2 + 0.3 k y^2): bending plus a transverse quadratic
-  auto displacement = [&](const Vec<2>& X) { return Vec<2>{{-k * X[0] * X[1], 0.5 * k * X[0] * X[0] + 0.3 * k * X[1] * X[1]}}; };
+  auto displacement = [&](const Vec<2>& X) {
+    return Vec<2>{{-k * X[0] * X[1], 0.5 * k * X[0] * X[0] + 0.3 * k * X[1] * X[1]}};
+  };
   auto gradient = [&](const Vec<2>& X) {
     Mat<2> F = Mat<2>::identity();
     F(0, 0) += -k * X[1], F(0, 1) += -k * X[0], F(1, 0) += k * X[0], F(1, 1) += 0.6 * k * X[1];
@@ -136,7 +141,8 @@ TEST(Tlsph, WithoutCorrectionFIsNotExactAtEdges) {
   deform(solver, A, Vec<2>::zero());
   solver.update_stress();
   Real worst = 0;
-  for (Index a = 0; a < solver.size(); ++a) worst = std::max(worst, std::abs(solver.deformation_gradient()[a](0, 0) - 1.1));
+  for (Index a = 0; a < solver.size(); ++a)
+    worst = std::max(worst, std::abs(solver.deformation_gradient()[a](0, 0) - 1.1));
   EXPECT_GT(worst, 1e-2);
 }
 
@@ -145,7 +151,10 @@ TEST(Tlsph, RigidRotationIsStressFree) {
   TlsphSolver<2> solver(block(10, 5, 0.01, 0, StructureIntegrator::rk4));
   const Real th = 0.7;
   Mat<2> R;
-  R(0, 0) = std::cos(th); R(0, 1) = -std::sin(th); R(1, 0) = std::sin(th); R(1, 1) = std::cos(th);
+  R(0, 0) = std::cos(th);
+  R(0, 1) = -std::sin(th);
+  R(1, 0) = std::sin(th);
+  R(1, 1) = std::cos(th);
   deform(solver, R, {{0.3, 0.1}});
   solver.update_stress();
   EXPECT_LT(solver.strain_energy(), 1e-20);
@@ -183,8 +192,9 @@ TEST(Tlsph, InternalForceIsTheGradientOfTheStoredEnergy) {
   using Q = StructureQuadrature;
   using G = StructureGradient;
   for (auto [alpha, gradient, quadrature] :
-       {std::tuple{0.0, G::linear, Q::point}, std::tuple{10.0, G::linear, Q::point}, std::tuple{0.0, G::quadratic, Q::point},
-        std::tuple{10.0, G::quadratic, Q::point}, std::tuple{0.0, G::linear, Q::cell}, std::tuple{5.0, G::linear, Q::cell},
+       {std::tuple{0.0, G::linear, Q::point}, std::tuple{10.0, G::linear, Q::point},
+        std::tuple{0.0, G::quadratic, Q::point}, std::tuple{10.0, G::quadratic, Q::point},
+        std::tuple{0.0, G::linear, Q::cell}, std::tuple{5.0, G::linear, Q::cell},
         std::tuple{5.0, G::quadratic, Q::cell}}) {
     auto s = block(8, 5, 0.01, 0, StructureIntegrator::rk4);
     s.hourglass = alpha;
@@ -213,8 +223,9 @@ TEST(Tlsph, InternalForceIsTheGradientOfTheStoredEnergy) {
         const Real down = energy();
         x[a][d] = keep;
         const Real force = -(up - down) / (2 * e);
-        EXPECT_NEAR(acc[a][d] * mass, force, 1e-5 * std::abs(force) + 1e-3) << "alpha " << alpha << " gradient " << int(gradient) << " quadrature " << int(quadrature)
-                                                                      << " particle " << a;
+        EXPECT_NEAR(acc[a][d] * mass, force, 1e-5 * std::abs(force) + 1e-3)
+            << "alpha " << alpha << " gradient " << int(gradient) << " quadrature " << int(quadrature) << " particle "
+            << a;
       }
   }
 }
@@ -268,11 +279,13 @@ TEST(TimeIntegration, EachStepFeelsTheInteractionSetForIt) {
     solver.step(2 * dt, dt);
     solver.restore_state();
     for (Index a = 0; a < n; ++a)
-      for (int d = 0; d < 2; ++d) EXPECT_NEAR(solver.velocity()[a][d], after_two[d], 1e-9) << "integrator " << int(integrator);
+      for (int d = 0; d < 2; ++d)
+        EXPECT_NEAR(solver.velocity()[a][d], after_two[d], 1e-9) << "integrator " << int(integrator);
     solver.step(2 * dt, dt);
     const Vec<2> after_three = dt * (a1 + a2 + a3);
     for (Index a = 0; a < n; ++a)
-      for (int d = 0; d < 2; ++d) EXPECT_NEAR(solver.velocity()[a][d], after_three[d], 1e-9) << "integrator " << int(integrator);
+      for (int d = 0; d < 2; ++d)
+        EXPECT_NEAR(solver.velocity()[a][d], after_three[d], 1e-9) << "integrator " << int(integrator);
   }
 }
 
@@ -368,7 +381,8 @@ TEST(WallContact, ThrownBlockBouncesOffTheFloor) {
     const Real dt = solver.stable_dt(0.25);
     auto energy = [&] {
       solver.update_stress();
-      return solver.kinetic_energy() + solver.potential_energy() + solver.strain_energy() + solver.obstacle_contact().energy;
+      return solver.kinetic_energy() + solver.potential_energy() + solver.strain_energy() +
+             solver.obstacle_contact().energy;
     };
     const Real e0 = energy();
     Real lowest = 1e300, deepest = 0;
