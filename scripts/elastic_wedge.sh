@@ -11,16 +11,12 @@
 #   bash scripts/elastic_wedge.sh          # OUT=runs/elastic_wedge
 set -euo pipefail
 cd "$(dirname "$0")/.."
-ISPH=${ISPH:-build/isph}
 OUT=${OUT:-runs/elastic_wedge}
+source scripts/run_case.sh
 PY=/usr/bin/python3
 mkdir -p "$OUT"
 
-run() {  # run NAME [--set ...]
-  local name=$1; shift
-  [ -f "$OUT/$name/summary.json" ] || "$ISPH" run cases/elastic_wedge.toml --quiet --threads 2 \
-    --set output.snapshots=false --out "$OUT/$name" "$@" || echo "$name stopped"
-}
+run() { run_case "$1" elastic_wedge --set output.snapshots=false "${@:2}"; }  # run NAME [--set ...]
 tank() {  # tank X0 X1 DEPTH: --set options for water from x0 to x1 and 1 - depth to 1 m, walls 0.06 m thick
   awk -v x0="$1" -v x1="$2" -v d="$3" 'BEGIN {
     y0 = 1 - d; t = 0.06

@@ -17,7 +17,8 @@ out=${1:-out/energy_books}
 shift || true
 files=("$@")
 [ ${#files[@]} -gt 0 ] || files=(cases/*.toml)
-threads=${THREADS:-2}
+OUT=$out
+source scripts/run_case.sh
 mkdir -p "$out"
 python=/usr/bin/python3
 
@@ -45,11 +46,9 @@ print(f"| {sys.argv[2]} | {s['simulated_time']:.4g} | {s['status']} | {b.get('pe
 PY
 }
 
-run() {  # $1 name, the rest: isph run arguments
-  local name=$1
-  shift
-  build/isph run "$@" --threads "$threads" --quiet --out "$out/$name" >"$out/$name.log" 2>&1 || true
-  row "$out/$name" "$name"
+run() {  # $1 name, $2 case, the rest: isph run arguments
+  run_case "$@" > /dev/null || true
+  row "$out/$1" "$1"
 }
 
 header "bundled case"
@@ -85,7 +84,7 @@ done
 
 [ "${MAPS:-0}" = 1 ] || exit 0
 for map in stability_dam_break stability_gate; do
-  $python scripts/study.py "cases/studies/$map.toml" --out "$out/maps/$map" --threads "$threads" >"$out/$map.log" 2>&1 || true
+  $python scripts/study.py "cases/studies/$map.toml" --out "$out/maps/$map" --threads "$THREADS" >"$out/$map.log" 2>&1 || true
   header "$map point"
   while IFS= read -r summary; do
     dir=$(dirname "$summary")

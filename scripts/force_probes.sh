@@ -6,13 +6,10 @@
 #   bash scripts/force_probes.sh          # OUT=runs/force_probes
 set -euo pipefail
 cd "$(dirname "$0")/.."
-ISPH=${ISPH:-build/isph}
 OUT=${OUT:-runs/force_probes}
+source scripts/run_case.sh
 mkdir -p "$OUT"
-run() {  # run NAME CASE [--set ...]
-  local name=$1 case=$2; shift 2
-  [ -f "$OUT/$name/summary.json" ] || "$ISPH" run "cases/$case.toml" --quiet --threads 2 --out "$OUT/$name" "$@"
-}
+run() { run_case "$@"; }  # run NAME CASE [--set ...]
 coarse=(--set dx=0.05 --set end_time=2 --set output.snapshots=false
         --set 'bodies.floor.shape={type="rectangle",min=[-0.15,-0.15],max=[1.15,0.0]}'
         --set 'bodies.left_wall.shape={type="rectangle",min=[-0.15,0.0],max=[0.0,1.2]}'

@@ -5,15 +5,11 @@
 #   bash scripts/fsi_layer.sh          # OUT=runs/fsi_layer
 set -euo pipefail
 cd "$(dirname "$0")/.."
-ISPH=${ISPH:-build/isph}
 OUT=${OUT:-runs/fsi_layer}
+source scripts/run_case.sh
 PY=/usr/bin/python3
 mkdir -p "$OUT"
-run() {  # run NAME CASE [--set ...]
-  local name=$1 case=$2; shift 2
-  [ -f "$OUT/$name/summary.json" ] || "$ISPH" run "cases/$case.toml" --quiet --threads 2 --set output.snapshots=false \
-    --out "$OUT/$name" "$@" || echo "$name stopped"
-}
+run() { run_case "$1" "$2" --set output.snapshots=false "${@:3}"; }  # run NAME CASE [--set ...]
 for layer in off literal derived relative; do
   if [ $layer = off ]; then set_layer=(--set coupling.fsi_shifting=false)
   else set_layer=(--set coupling.fsi_shifting=true --set "coupling.fsi_shifting_law=\"$layer\""); fi

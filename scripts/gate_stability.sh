@@ -16,18 +16,14 @@
 #   /usr/bin/python3 scripts/coupled_report.py   (the table in docs/VALIDATION.md)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-ISPH=${ISPH:-build/isph}
 OUT=${OUT:-runs/gate_stability}
+THREADS=${THREADS:-1}
+source scripts/run_case.sh
 mkdir -p "$OUT"
 
 run() {  # run NAME [--set ...]
-  local name=$1; shift
-  if [ -f "$OUT/$name/summary.json" ]; then echo "skip $name (done)"; return; fi
-  echo "run  $name"
-  # a diverged run (exit 3) is a result
-  "$ISPH" run cases/elastic_gate.toml --out "$OUT/$name" --threads 1 --quiet --set dx="${DX:-0.00125}" \
-    --set bodies.gate.refinement="${REFINEMENT:-1}" \
-    --set end_time="${END_TIME:-0.06}" --set output.snapshots=false "$@" || [ $? -eq 3 ]
+  run_case "$1" elastic_gate --set dx="${DX:-0.00125}" --set bodies.gate.refinement="${REFINEMENT:-1}" \
+    --set end_time="${END_TIME:-0.06}" --set output.snapshots=false "${@:2}"
 }
 
 run large_step --set coupling.substeps=1

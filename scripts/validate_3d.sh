@@ -15,17 +15,12 @@
 #   bash scripts/validate_3d.sh          # OUT=runs/validate_3d, THREADS=2
 set -euo pipefail
 cd "$(dirname "$0")/.."
-ISPH=${ISPH:-build/isph}
 OUT=${OUT:-runs/validate_3d}
-THREADS=${THREADS:-2}
+source scripts/run_case.sh
 PY=/usr/bin/python3
 mkdir -p "$OUT"
 
-run() {  # run NAME CASE [--set ...]
-  local name=$1 case=$2; shift 2
-  [ -f "$OUT/$name/summary.json" ] || "$ISPH" run "$case" --quiet --threads "$THREADS" --out "$OUT/$name" "$@" ||
-    echo "$name stopped"
-}
+run() { run_case "$@"; }  # run NAME CASE [--set ...]
 walls() {  # walls DX: --set options for SPHERIC Test 2's walls three particles thick at DX
   awk -v dx="$1" 'BEGIN {
     t = 3 * dx; X = 3.22; Y = 1; Z = 1

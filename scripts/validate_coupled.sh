@@ -13,33 +13,14 @@
 # hypre BoomerAMG-BiCGSTAB when the build has it (PLATE_BACKEND; 3.8 times faster than Eigen's ILUT there).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-ISPH=${ISPH:-build/isph}
-OUT=${OUT:-runs}
 THREADS=${THREADS:-1}
+source scripts/run_case.sh
 mkdir -p "$OUT"
 PLATE_BACKEND=${PLATE_BACKEND:-$(grep -q '^HYPRE_LIBRARY:FILEPATH=.*libHYPRE' build/CMakeCache.txt 2>/dev/null && echo hypre || echo eigen)}
 PLATE=(--set fluid.ppe.backend=$PLATE_BACKEND --set output.snapshot_interval=0.05)
 [ "$PLATE_BACKEND" = eigen ] || PLATE+=(--set fluid.ppe.fallback=eigen)
 
-run() {  # run NAME CASE [--set ...]
-  local name=$1 case=$2; shift 2
-  if [ -f "$OUT/$name/summary.json" ]; then echo "skip $name (done)"; return; fi
-  # A run that was stopped continues from its last snapshot (isph run --restart): its folder becomes
-  # NAME.partK, and NAME carries its rows.
-  local restart=() last
-  last=$(ls "$OUT/$name"/snapshots/snapshot_*.h5 2>/dev/null | tail -n 1 || true)
-  if [ -n "$last" ]; then
-    local k=1
-    while [ -e "$OUT/$name.part$k" ]; do k=$((k + 1)); done
-    mv "$OUT/$name" "$OUT/$name.part$k"
-    restart=(--restart "$OUT/$name.part$k/snapshots/$(basename "$last")")
-    echo "run  $name (continuing from $OUT/$name.part$k, $(basename "$last"))"
-  else
-    echo "run  $name"
-  fi
-  # a diverged run (exit 3) is a result, not a failure of this script
-  "$ISPH" run "$case" --out "$OUT/$name" --threads "$THREADS" --quiet "${restart[@]}" "$@" || [ $? -eq 3 ]
-}
+run() { run_case "$@"; }  # run NAME CASE [--set ...]; a stopped run continues from its last snapshot
 
 if [ "${1:-all}" != "report" ]; then
   run plate_T4 cases/hydrostatic_plate.toml "${PLATE[@]}" &

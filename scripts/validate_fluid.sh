@@ -7,21 +7,12 @@
 # BACKEND sets the PPE backend (default hypre when the build has it, else eigen).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-ISPH=${ISPH:-build/isph}
-OUT=${OUT:-runs}
 THREADS=${THREADS:-1}
+source scripts/run_case.sh
 BACKEND=${BACKEND:-$(grep -q '^HYPRE_LIBRARY:FILEPATH=.*libHYPRE' build/CMakeCache.txt 2>/dev/null && echo hypre || echo eigen)}
 mkdir -p "$OUT"
 
-run() {  # run NAME CASE [--set ...]
-  local name=$1 case=$2; shift 2
-  if [ -f "$OUT/$name/summary.json" ]; then echo "skip $name (done)"; return; fi
-  if [ -n "${SKIP:-}" ] && [[ " $SKIP " == *" $name "* ]]; then echo "skip $name (SKIP)"; return; fi
-  echo "run  $name"
-  # a diverged run (exit 3) is a result of the stability study, not a failure of this script
-  "$ISPH" run "$case" --out "$OUT/$name" --threads "$THREADS" --quiet --set fluid.ppe.backend="$BACKEND" "$@" || \
-    [ $? -eq 3 ]
-}
+run() { run_case "$1" "$2" --set fluid.ppe.backend="$BACKEND" "${@:3}"; }  # run NAME CASE [--set ...]
 
 if [ "${1:-all}" != "report" ]; then
   # 1. still water, H/dx = 40, 5 s

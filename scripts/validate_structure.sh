@@ -8,22 +8,12 @@
 # Runs already completed are skipped; SKIP="name ..." skips others; THREADS sets --threads.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-ISPH=${ISPH:-build/isph}
 OUT=${OUT:-runs/validation}
 THREADS=${THREADS:-1}
+source scripts/run_case.sh
 mkdir -p "$OUT"
 
-run() {  # run NAME CASE [--set ...]
-  local name=$1 case=$2; shift 2
-  if [ -f "$OUT/$name/summary.json" ] && grep -q '"completed"' "$OUT/$name/summary.json"; then
-    echo "skip $name (done)"; return
-  fi
-  if [ -n "${SKIP:-}" ] && [[ " $SKIP " == *" $name "* ]]; then
-    echo "skip $name (SKIP)"; return
-  fi
-  echo "run  $name"
-  "$ISPH" run "$case" --out "$OUT/$name" --threads "$THREADS" --quiet "$@"
-}
+run() { run_case "$@"; }  # run NAME CASE [--set ...]
 
 # The cantilever's earlier discretisations (sections 1, 4, 22): particles at cell centres in x too,
 # with the one-point rule or the cell quadrature of the strain energy.
