@@ -201,4 +201,12 @@ inline Vec<D> to_vec(const std::array<double, 3>& a) {
   return v;
 }
 
+// A vector as three components, z = 0 in 2D (case-file points, snapshot fields; host code).
+template <int D>
+inline std::array<double, 3> to_array(const Vec<D>& v) {
+  std::array<double, 3> a{0, 0, 0};
+  for (int d = 0; d < D; ++d) a[d] = v[d];
+  return a;
+}
+
 }  // namespace isph

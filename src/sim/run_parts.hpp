@@ -20,12 +20,6 @@ RunResult run_structure(const CaseSpec& spec, const RunOptions& opt, Scene<D>& s
 
 // Snapshot fields hold three components whatever the dimension (z = 0 in 2D).
 template <int D>
-std::array<double, 3> to_array(const Vec<D>& v) {
-  std::array<double, 3> a{0, 0, 0};
-  for (int d = 0; d < D; ++d) a[d] = v[d];
-  return a;
-}
-template <int D>
 void put_vector(SnapshotField& field, Index k, const Vec<D>& v) {
   for (int d = 0; d < D; ++d) field.data[3 * k + d] = v[d];
 }
