@@ -266,101 +266,69 @@ std::string KrylovSolverFrame::name() const {
   return name_of(settings_.backend) + "-" + name_of(settings_.method) + "-" + name_of(settings_.preconditioner);
 }
 
-SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, std::span<const double> b, std::span<double> x,
-                                     MatrixReuse reuse) {
-  const auto start = std::chrono::steady_clock::now();
-  // The frame's loops run on the backend's device when the caller's arrays live there (the fluid's, in
-  // managed memory), else on the host (a test's or a benchmark's std::vectors).
-  const Exec exec = exec_device_.device == Device::cuda && device_accessible(A_in.row_offset.data()) &&
-                            device_accessible(A_in.col.data()) && device_accessible(A_in.val.data()) &&
-                            device_accessible(b.data()) && device_accessible(x.data())
-                        ? exec_device_
-                        : Exec{};
-  check_system(exec, A_in, b, x);
-  kept_preconditioner_ = false;
-  if (reuse == MatrixReuse::none && prepared_) {
-    release();
-    prepared_ = false;
-  }
-  const int n = A_in.rows;
+double KrylovSolverFrame::relative_residual(const Exec& exec, const CsrMatrix& A, std::span<const double> b,
+                                            std::span<const double> x) {
+  return relative_residual_on(exec, A, b, x, squares_, b_squares_, partial_);
+}
 
-  SolveReport report;
-  const auto done = [&](std::string message) {
-    report.message = std::move(message);
-    report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return report;
-  };
+std::optional<std::string> KrylovSolverFrame::screen(const Exec& exec, const CsrMatrix& A, std::span<const double> b,
+                                                     std::span<double> x, SolveReport& report, std::string& notes) {
+  const int n = A.rows;
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  const double tol = settings_.tolerance;
-
   if (n == 0) {
     report.converged = true;
-    return done("empty system");
+    return "empty system";
   }
-  const auto residual = [&](const CsrMatrix& A) {
-    return relative_residual_on(exec, A, b, x, squares_, b_squares_, partial_);
-  };
-  if (!all_finite(exec, A_in.val)) {
+  if (!all_finite(exec, A.val)) {
     report.relative_residual = nan;
-    return done("the matrix has NaN or Inf entries: not solved, x unchanged");
+    return "the matrix has NaN or Inf entries: not solved, x unchanged";
   }
   if (!all_finite(exec, b)) {
     report.relative_residual = nan;
-    return done("the right-hand side has NaN or Inf entries: not solved, x unchanged");
+    return "the right-hand side has NaN or Inf entries: not solved, x unchanged";
   }
   if (parallel_reduce(exec, n, 0.0, Magnitude{b.data()}, MaxOf{}) == 0) {
     parallel_for(exec, n, SetValues{x.data(), 0.0});
     report.converged = true;
-    return done("b = 0: x = 0");
+    return "b = 0: x = 0";
   }
-  std::string notes;
   if (!all_finite(exec, x)) {
     parallel_for(exec, n, SetValues{x.data(), 0.0});
     notes = "NaN/Inf initial guess replaced by zero; ";
   }
+  return std::nullopt;
+}
 
-  CsrMatrix sorted;  // on the host: the project's own matrices come sorted
-  const bool needs_copy = first(exec, n, UnsortedRow{A_in.row_offset.data(), A_in.col.data()}) != kNone;
-  if (needs_copy) {
-    sorted = canonical(A_in);
-    if (exec.device == Device::cuda) {
-      make_device_visible(sorted.row_offset);
-      make_device_visible(sorted.col);
-      make_device_visible(sorted.val);
-    }
-  }
-  const CsrMatrix& A = needs_copy ? sorted : A_in;
-
-  double rel = residual(A);
-  report.relative_residual = rel;
-  if (rel <= tol) {
-    report.converged = true;
-    return done(notes + "the initial guess meets the tolerance");
-  }
-
-  const auto setup_start = std::chrono::steady_clock::now();
+std::string KrylovSolverFrame::prepare(const CsrMatrix& A, std::span<const double> b, MatrixReuse reuse) {
   if (prepared_ && reuse == MatrixReuse::all) {
     update_rhs(b);
-  } else if (prepared_ && refresh_matrix(A, b)) {
-    kept_preconditioner_ = true;
-  } else {
-    if (prepared_) {
-      release();
-      prepared_ = false;
-    }
-    struct ReleaseOnThrow {
-      KrylovSolverFrame* self;
-      bool armed = true;
-      ~ReleaseOnThrow() {
-        if (armed) self->release();
-      }
-    } guard{this};
-    if (std::string why = setup(A, b); !why.empty()) return done(notes + "setup failed: " + why);
-    guard.armed = false;
-    prepared_ = true;
+    return "";
   }
-  report.setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();
+  if (prepared_ && refresh_matrix(A, b)) {
+    kept_preconditioner_ = true;
+    return "";
+  }
+  if (prepared_) {
+    release();
+    prepared_ = false;
+  }
+  struct ReleaseOnThrow {
+    KrylovSolverFrame* self;
+    bool armed = true;
+    ~ReleaseOnThrow() {
+      if (armed) self->release();
+    }
+  } guard{this};
+  if (std::string why = setup(A, b); !why.empty()) return why;
+  guard.armed = false;
+  prepared_ = true;
+  return "";
+}
 
+std::string KrylovSolverFrame::iterate_to_tolerance(const Exec& exec, const CsrMatrix& A, std::span<const double> b,
+                                                    std::span<double> x, double rel, SolveReport& report) {
+  const int n = A.rows;
+  const double tol = settings_.tolerance;
   x0_.resize(n);
   parallel_for(exec, n, CopyElements<double>{x.data(), x0_.data()});
   const double eps = std::numeric_limits<double>::epsilon();
@@ -382,12 +350,12 @@ SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, std::span<const doub
     if (!all_finite(exec, x)) {
       parallel_for(exec, n, CopyElements<double>{x0_.data(), x.data()});
       report.converged = false;
-      report.relative_residual = residual(A);
-      return done(notes + "the solver produced NaN/Inf (breakdown or a singular preconditioner" +
-                  (last_note.empty() ? "" : ": " + last_note) + "); x restored to the initial guess");
+      report.relative_residual = relative_residual(exec, A, b, x);
+      return "the solver produced NaN/Inf (breakdown or a singular preconditioner" +
+             (last_note.empty() ? "" : ": " + last_note) + "); x restored to the initial guess";
     }
     const double previous = rel;
-    rel = residual(A);
+    rel = relative_residual(exec, A, b, x);
     report.relative_residual = rel;
     if (rel <= tol) {
       report.converged = true;
@@ -397,12 +365,61 @@ SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, std::span<const doub
     if (pass > 0 && !(rel < 0.5 * previous)) break;
   }
   if (report.converged)
-    return done(notes + "converged in " + std::to_string(report.iterations) + " iterations" +
-                (pass > 0 ? " (" + std::to_string(pass + 1) + " passes)" : ""));
+    return "converged in " + std::to_string(report.iterations) + " iterations" +
+           (pass > 0 ? " (" + std::to_string(pass + 1) + " passes)" : "");
   std::string why =
       remaining <= 0 ? "iteration limit " + std::to_string(settings_.max_iterations) + " reached" : "stagnated";
-  return done(notes + "not converged: " + why + ", relative residual " + sci(rel) + " > tolerance " + sci(tol) +
-              (last_note.empty() ? "" : " (" + last_note + ")"));
+  return "not converged: " + why + ", relative residual " + sci(rel) + " > tolerance " + sci(tol) +
+         (last_note.empty() ? "" : " (" + last_note + ")");
+}
+
+SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, std::span<const double> b, std::span<double> x,
+                                     MatrixReuse reuse) {
+  const auto start = std::chrono::steady_clock::now();
+  // The frame's loops run on the backend's device when the caller's arrays live there (the fluid's, in
+  // managed memory), else on the host (a test's or a benchmark's std::vectors).
+  const Exec exec = exec_device_.device == Device::cuda && device_accessible(A_in.row_offset.data()) &&
+                            device_accessible(A_in.col.data()) && device_accessible(A_in.val.data()) &&
+                            device_accessible(b.data()) && device_accessible(x.data())
+                        ? exec_device_
+                        : Exec{};
+  check_system(exec, A_in, b, x);
+  kept_preconditioner_ = false;
+  if (reuse == MatrixReuse::none && prepared_) {
+    release();
+    prepared_ = false;
+  }
+  SolveReport report;
+  const auto done = [&](std::string message) {
+    report.message = std::move(message);
+    report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return report;
+  };
+  std::string notes;
+  if (const auto ended = screen(exec, A_in, b, x, report, notes)) return done(*ended);
+
+  CsrMatrix sorted;  // on the host: the project's own matrices come sorted
+  const bool needs_copy = first(exec, A_in.rows, UnsortedRow{A_in.row_offset.data(), A_in.col.data()}) != kNone;
+  if (needs_copy) {
+    sorted = canonical(A_in);
+    if (exec.device == Device::cuda) {
+      make_device_visible(sorted.row_offset);
+      make_device_visible(sorted.col);
+      make_device_visible(sorted.val);
+    }
+  }
+  const CsrMatrix& A = needs_copy ? sorted : A_in;
+
+  const double rel = relative_residual(exec, A, b, x);
+  report.relative_residual = rel;
+  if (rel <= settings_.tolerance) {
+    report.converged = true;
+    return done(notes + "the initial guess meets the tolerance");
+  }
+  const auto setup_start = std::chrono::steady_clock::now();
+  if (std::string why = prepare(A, b, reuse); !why.empty()) return done(notes + "setup failed: " + why);
+  report.setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();
+  return done(notes + iterate_to_tolerance(exec, A, b, x, rel, report));
 }
 
 }  // namespace detail

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -179,6 +180,17 @@ class KrylovSolverFrame : public LinearSolver {
   SolverSettings settings_;
 
  private:
+  // The checks before any iteration: a solve that ends there (an empty system, non-finite A or b,
+  // b = 0) gets its message; a non-finite initial guess is replaced by zero and noted.
+  std::optional<std::string> screen(const Exec& exec, const CsrMatrix& A, std::span<const double> b,
+                                    std::span<double> x, SolveReport& report, std::string& notes);
+  // The backend's set-up for A and b as `reuse` allows; why it failed, or an empty string.
+  std::string prepare(const CsrMatrix& A, std::span<const double> b, MatrixReuse reuse);
+  // The Krylov passes from x to the tolerance, from the relative residual `rel` of x; the closing message.
+  std::string iterate_to_tolerance(const Exec& exec, const CsrMatrix& A, std::span<const double> b, std::span<double> x,
+                                   double rel, SolveReport& report);
+  double relative_residual(const Exec& exec, const CsrMatrix& A, std::span<const double> b, std::span<const double> x);
+
   bool prepared_ = false;  // a setup() is in place
   bool kept_preconditioner_ = false;
   Exec exec_device_;                                        // the backend's device

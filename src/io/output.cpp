@@ -353,10 +353,10 @@ bool SnapshotWriter::available() {
 }
 
 #ifdef ISPH_HAVE_HDF5
-void SnapshotWriter::write(double time, const std::vector<std::array<double, 3>>& positions,
-                           const std::vector<SnapshotField>& fields, const SnapshotAttributes& attributes) {
-  if (dir_.empty()) throw std::logic_error("SnapshotWriter::write: no output directory");
-  const std::size_t n = positions.size();
+namespace {
+
+// The fields' names and components, checked: a name once, no path, and n values per component.
+std::vector<std::pair<std::string, int>> field_layout(const std::vector<SnapshotField>& fields, std::size_t n) {
   std::vector<std::pair<std::string, int>> layout;
   for (const auto& field : fields) {
     if (field.name.empty() || field.name == "." || field.name == "position" ||
@@ -373,33 +373,13 @@ void SnapshotWriter::write(double time, const std::vector<std::array<double, 3>>
     }
     layout.emplace_back(field.name, field.components);
   }
+  return layout;
+}
 
-  std::vector<double> flat(3 * n);
-  for (std::size_t i = 0; i < n; ++i) {
-    flat[3 * i] = positions[i][0];
-    flat[3 * i + 1] = positions[i][1];
-    flat[3 * i + 2] = dimension_ == 2 ? 0.0 : positions[i][2];
-  }
+}  // namespace
 
-  const std::filesystem::path snapshots = std::filesystem::path(dir_) / "snapshots";
-  std::filesystem::create_directories(snapshots);
-  char name[32];
-  std::snprintf(name, sizeof name, "snapshot_%05d.h5", count());
-  const std::string path = (snapshots / name).string();
-  const std::string tmp = path + ".tmp";
-  try {
-    write_snapshot_file(tmp, time, flat, fields, attributes);
-  } catch (...) {
-    std::remove(tmp.c_str());
-    throw;
-  }
-  rename_into_place(tmp, path);
-
-  times_.push_back(time);
-  files_.push_back(name);
-  layouts_.push_back(std::move(layout));
-  sizes_.push_back(static_cast<long long>(n));
-
+// The XDMF index of every snapshot written so far, which ParaView opens as one time series.
+std::string SnapshotWriter::xdmf_index() const {
   std::string xmf =
       "<?xml version=\"1.0\" ?>\n"
       "<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
@@ -428,7 +408,41 @@ void SnapshotWriter::write(double time, const std::vector<std::array<double, 3>>
       "  </Grid>\n"
       " </Domain>\n"
       "</Xdmf>\n";
-  write_file_atomically((snapshots / "snapshots.xmf").string(), xmf);
+  return xmf;
+}
+
+void SnapshotWriter::write(double time, const std::vector<std::array<double, 3>>& positions,
+                           const std::vector<SnapshotField>& fields, const SnapshotAttributes& attributes) {
+  if (dir_.empty()) throw std::logic_error("SnapshotWriter::write: no output directory");
+  const std::size_t n = positions.size();
+  std::vector<std::pair<std::string, int>> layout = field_layout(fields, n);
+  std::vector<double> flat(3 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    flat[3 * i] = positions[i][0];
+    flat[3 * i + 1] = positions[i][1];
+    flat[3 * i + 2] = dimension_ == 2 ? 0.0 : positions[i][2];
+  }
+
+  const std::filesystem::path snapshots = std::filesystem::path(dir_) / "snapshots";
+  std::filesystem::create_directories(snapshots);
+  char name[32];
+  std::snprintf(name, sizeof name, "snapshot_%05d.h5", count());
+  const std::string path = (snapshots / name).string();
+  const std::string tmp = path + ".tmp";
+  try {
+    write_snapshot_file(tmp, time, flat, fields, attributes);
+  } catch (...) {
+    std::remove(tmp.c_str());
+    throw;
+  }
+  rename_into_place(tmp, path);
+
+  times_.push_back(time);
+  files_.push_back(name);
+  layouts_.push_back(std::move(layout));
+  sizes_.push_back(static_cast<long long>(n));
+
+  write_file_atomically((snapshots / "snapshots.xmf").string(), xdmf_index());
 }
 #else
 void SnapshotWriter::write(double, const std::vector<std::array<double, 3>>&, const std::vector<SnapshotField>&,

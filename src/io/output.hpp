@@ -79,6 +79,8 @@ class SnapshotWriter {
   int count() const { return static_cast<int>(times_.size()); }
 
  private:
+  std::string xdmf_index() const;
+
   std::string dir_;
   int dimension_ = 2;
   std::vector<double> times_;

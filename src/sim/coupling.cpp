@@ -69,14 +69,10 @@ Real StructureCoupling<D>::added_mass_factor() const {
 }
 
 template <int D>
-FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid, PhaseTimer& timer) {
+Eigen::VectorXd StructureCoupling<D>::predict_interface(Real t, Real dt, Real beta, IsphSolver<D>& fluid,
+                                                        PhaseTimer& timer, Real& floor) {
   const Index n = solver_.size();
-  FluidStepReport report;
-  const Real beta = added_mass_factor();
-  fluid.set_structure_inertia(inverse_density_, beta);
-  fluid.begin_step(dt, timer);
-  quasi_newton_.begin_step();
-  Eigen::VectorXd x;  // the iterate: a~_s along each row's direction
+  Eigen::VectorXd x;
   Index wet = 0;
   timer.time("structure", [&] {
     set_obstacles(fluid.particles());
@@ -91,7 +87,20 @@ FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid
     x = along(a_guess_, row_direction_);
     for (Index s = 0; s < n; ++s) wet += norm2(row_direction_[s]) > 0;
   });
-  const Real floor = g_norm_ * std::sqrt(static_cast<Real>(wet));  // |g| on every wetted particle
+  floor = g_norm_ * std::sqrt(static_cast<Real>(wet));
+  return x;
+}
+
+template <int D>
+FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid, PhaseTimer& timer) {
+  const Index n = solver_.size();
+  FluidStepReport report;
+  const Real beta = added_mass_factor();
+  fluid.set_structure_inertia(inverse_density_, beta);
+  fluid.begin_step(dt, timer);
+  quasi_newton_.begin_step();
+  Real floor = 0;
+  Eigen::VectorXd x = predict_interface(t, dt, beta, fluid, timer, floor);  // the iterate: a~_s along the rows
   int iteration = 0, count = 0;
   Real work = 0;
   Vec<D> force = Vec<D>::zero();

@@ -140,6 +140,10 @@ class StructureCoupling {
   // beta of the structure rows (PpeRowFill): 1/2 under a held alpha, 1/6 under a ramped one (the share
   // of alpha^{n+1} in the chord displacement), 0 without coupling.implicit_added_mass.
   Real added_mass_factor() const;
+  // The step's start for the interface iterations: the structure's state saved, the rows' directions,
+  // and the first iterate predicted from the chord (ChordPrediction). Returns it, and in `floor` the
+  // residual's floor, |g| on every wetted particle.
+  Eigen::VectorXd predict_interface(Real t, Real dt, Real beta, IsphSolver<D>& fluid, PhaseTimer& timer, Real& floor);
   // The fluid's wall particles as the TLSPH solver's obstacles, and each structure particle's candidates.
   void set_obstacles(const ParticleSet<D>& fluid);
   // The deepest structure-wall overlap at the step's end, for summary().
