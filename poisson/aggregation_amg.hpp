@@ -503,7 +503,10 @@ class AggregationAmg {
     inclusive_scan(exec, rank.data(), n);
     coarse_n = n > 0 ? read(rank.data() + n - 1) : 0;
     if (coarse_n == 0) return "";
-    parallel_for(exec, n, amg::JoinRoot{A, cut.data(), state.data(), rank.data(), first.data()});
+    parallel_for(
+        exec, n,
+        amg::JoinRoot{
+            .A = A, .cut = cut.data(), .state = state.data(), .root_rank = rank.data(), .aggregate = first.data()});
     parallel_for(exec, n, amg::JoinNeighbour{A, cut.data(), first.data(), aggregate.data()});
 
     Csr& tentative = w.tentative;
@@ -536,13 +539,22 @@ class AggregationAmg {
   std::string multiply(const CsrView& X, const CsrView& Y, Csr& C) {
     const Exec exec = ops_.exec();
     start_csr(C, X.rows);
-    parallel_for(exec, X.rows, amg::SparseProductRow{X, Y, C.row_offset.data() + 1, nullptr, nullptr, nullptr});
+    parallel_for(
+        exec, X.rows,
+        amg::SparseProductRow{
+            .X = X, .Y = Y, .row_end = C.row_offset.data() + 1, .row_offset = nullptr, .col = nullptr, .val = nullptr});
     const int widest = parallel_reduce(exec, X.rows, 0, amg::IntAt{C.row_offset.data() + 1}, MaxOf{});
     if (widest >= amg::kProductCapacity - 1)
       return "AMG: a row of a level's product has more than " + std::to_string(amg::kProductCapacity - 2) + " entries";
     inclusive_scan(exec, C.row_offset.data() + 1, X.rows);
     allocate_entries(C);
-    parallel_for(exec, X.rows, amg::SparseProductRow{X, Y, nullptr, C.row_offset.data(), C.col.data(), C.val.data()});
+    parallel_for(exec, X.rows,
+                 amg::SparseProductRow{.X = X,
+                                       .Y = Y,
+                                       .row_end = nullptr,
+                                       .row_offset = C.row_offset.data(),
+                                       .col = C.col.data(),
+                                       .val = C.val.data()});
     return "";
   }
 
@@ -559,7 +571,12 @@ class AggregationAmg {
     parallel_for(exec, columns + 1, KeyStarts{w.column.data(), m, T.row_offset.data()});  // row offsets
     ensure(T.col, m);
     ensure(T.val, m);
-    parallel_for(exec, m, amg::GatherTransposed{w.entry.data(), w.entry_row.data(), A.val, T.col.data(), T.val.data()});
+    parallel_for(exec, m,
+                 amg::GatherTransposed{.entry = w.entry.data(),
+                                       .entry_row = w.entry_row.data(),
+                                       .val = A.val,
+                                       .t_col = T.col.data(),
+                                       .t_val = T.val.data()});
   }
 
   // c gets `rows` rows and row_offset[0] = 0; the entries follow by allocate_entries once the offsets hold.
@@ -592,24 +609,31 @@ class AggregationAmg {
     const int sweeps = coarsest ? amg::kCoarseSweeps : amg::kSweeps;
     double* current = z;
     double* other = level.tmp.data();
-    parallel_for(exec, n, ScaledAxpby{1, 0, level.l1inv.data(), r, current});  // the first sweep, from 0
+    parallel_for(
+        exec, n,
+        ScaledAxpby{.a = 1, .b = 0, .d = level.l1inv.data(), .x = r, .y = current});  // the first sweep, from 0
     for (int s = 1; s < sweeps; ++s) {
-      parallel_for(exec, n, amg::JacobiSweep{A, level.l1inv.data(), r, current, other});
+      parallel_for(exec, n,
+                   amg::JacobiSweep{.A = A, .l1inv = level.l1inv.data(), .r = r, .z_in = current, .z_out = other});
       std::swap(current, other);
     }
     if (!coarsest) {
       Level& next = levels_[l + 1];
       parallel_for(exec, n, amg::Residual{A, r, current, level.res.data()});
       const CsrView R = level.R.view();
-      parallel_for(exec, next.n, CsrRowProduct{R.row_offset, R.col, R.val, level.res.data(), next.rhs.data()});
+      parallel_for(
+          exec, next.n,
+          CsrRowProduct{
+              .row_offset = R.row_offset, .col = R.col, .val = R.val, .x = level.res.data(), .y = next.rhs.data()});
       cycle(l + 1, next.rhs.data(), next.z.data());
       parallel_for(exec, n, amg::ProlongAdd{level.P.view(), next.z.data(), current});
       for (int s = 0; s < sweeps; ++s) {
-        parallel_for(exec, n, amg::JacobiSweep{A, level.l1inv.data(), r, current, other});
+        parallel_for(exec, n,
+                     amg::JacobiSweep{.A = A, .l1inv = level.l1inv.data(), .r = r, .z_in = current, .z_out = other});
         std::swap(current, other);
       }
     }
-    if (current != z) parallel_for(exec, n, ScaledAxpby{1, 0, nullptr, current, z});
+    if (current != z) parallel_for(exec, n, ScaledAxpby{.a = 1, .b = 0, .d = nullptr, .x = current, .y = z});
   }
 
   // Work arrays of the set-up, kept for the next one.

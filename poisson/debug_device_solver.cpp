@@ -23,7 +23,10 @@ class DebugDeviceOps : public DeviceArrayOps {
   }
   CsrView matrix() const { return {rows_, row_offset_.data(), col_.data(), val_.data()}; }
   void spmv(const Vector& x, Vector& y) const {
-    parallel_for(exec(), rows_, CsrRowProduct{row_offset_.data(), col_.data(), val_.data(), x.data(), y.data()});
+    parallel_for(
+        exec(), rows_,
+        CsrRowProduct{
+            .row_offset = row_offset_.data(), .col = col_.data(), .val = val_.data(), .x = x.data(), .y = y.data()});
   }
   double dot(const Vector& x, const Vector& y) {
     return ordered_sum(exec(), static_cast<Index>(x.size()), ProductAt{x.data(), y.data()}, partial_sums_);

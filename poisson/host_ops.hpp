@@ -39,7 +39,11 @@ class HostOps {
   CsrView matrix() const { return {A_.rows, A_.row_offset.data(), A_.col.data(), A_.val.data()}; }
   void spmv(const Vector& x, Vector& y) const {
     parallel_for(exec(), A_.rows,
-                 CsrRowProduct{A_.row_offset.data(), A_.col.data(), A_.val.data(), x.data(), y.data()});
+                 CsrRowProduct{.row_offset = A_.row_offset.data(),
+                               .col = A_.col.data(),
+                               .val = A_.val.data(),
+                               .x = x.data(),
+                               .y = y.data()});
   }
   // Summed in fixed blocks, then the block sums in order: the result does not depend on the threads.
   double dot(const Vector& x, const Vector& y) {

@@ -168,7 +168,8 @@ class Bicgstab {
  private:
   void axpby(double a, const Vector& x, double b, Vector& y) { scaled_axpby(a, nullptr, x, b, y); }
   void scaled_axpby(double a, const Vector* d, const Vector& x, double b, Vector& y) {
-    parallel_for(ops_.exec(), n_, ScaledAxpby{a, b, d ? Ops::data(*d) : nullptr, Ops::data(x), Ops::data(y)});
+    parallel_for(ops_.exec(), n_,
+                 ScaledAxpby{.a = a, .b = b, .d = d ? Ops::data(*d) : nullptr, .x = Ops::data(x), .y = Ops::data(y)});
   }
 
   // z = M⁻¹ r

@@ -115,9 +115,14 @@ double relative_residual_on(const Exec& exec, const CsrMatrix& A, std::span<cons
                             StateVector<double>& r2, StateVector<double>& b2, StateVector<double>& partial) {
   r2.resize(A.rows);
   b2.resize(A.rows);
-  parallel_for(
-      exec, A.rows,
-      ResidualSquares{A.row_offset.data(), A.col.data(), A.val.data(), b.data(), x.data(), r2.data(), b2.data()});
+  parallel_for(exec, A.rows,
+               ResidualSquares{.row_offset = A.row_offset.data(),
+                               .col = A.col.data(),
+                               .val = A.val.data(),
+                               .b = b.data(),
+                               .x = x.data(),
+                               .r2 = r2.data(),
+                               .b2 = b2.data()});
   const double r = ordered_sum(exec, A.rows, ScalarAt{r2.data()}, partial);
   const double bb = ordered_sum(exec, A.rows, ScalarAt{b2.data()}, partial);
   return bb > 0 ? std::sqrt(r / bb) : std::sqrt(r);

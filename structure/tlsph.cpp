@@ -314,7 +314,12 @@ constexpr Real kRk4Sum[4] = {1.0 / 6, 1.0 / 3, 1.0 / 3, 1.0 / 6};  // each stage
 template <int D>
 void TlsphSolver<D>::rk4_launches(const Exec& exec, Real t, Real dt, Real* clamp_record) {
   parallel_for(exec, n_,
-               StartRungeKutta<D>{x_.data(), v_.data(), x0_.data(), v0_.data(), x_sum_.data(), v_sum_.data()});
+               StartRungeKutta<D>{.x = x_.data(),
+                                  .v = v_.data(),
+                                  .x0 = x0_.data(),
+                                  .v0 = v0_.data(),
+                                  .x_sum = x_sum_.data(),
+                                  .v_sum = v_sum_.data()});
   constexpr Real w_next[4] = {0.5, 0.5, 1.0, 1.0};  // the last unused: that stage writes the result
   constexpr Real t_stage[4] = {0.0, 0.5, 0.5, 1.0};
   const bool clamps_move = !motions_.empty();
@@ -324,8 +329,19 @@ void TlsphSolver<D>::rk4_launches(const Exec& exec, Real t, Real dt, Real* clamp
     evaluate(exec, t + t_stage[k] * dt);
     if (clamps_move) ordered_sum_into(exec, n_, clamp_power_term(), block_sums_, clamp_record + 1 + k);
     parallel_for(exec, n_,
-                 RungeKuttaStage<D>{n_, x0_.data(), v0_.data(), acc_.data(), fixed_.data(), x_.data(), v_.data(),
-                                    x_sum_.data(), v_sum_.data(), dt, kRk4Sum[k], w_next[k], k == 3});
+                 RungeKuttaStage<D>{.n = n_,
+                                    .x0 = x0_.data(),
+                                    .v0 = v0_.data(),
+                                    .acc = acc_.data(),
+                                    .fixed = fixed_.data(),
+                                    .x = x_.data(),
+                                    .v = v_.data(),
+                                    .x_sum = x_sum_.data(),
+                                    .v_sum = v_sum_.data(),
+                                    .dt = dt,
+                                    .w_sum = kRk4Sum[k],
+                                    .w_next = w_next[k],
+                                    .last = k == 3});
   }
   prescribe_clamps(exec, t + dt);
   if (clamps_move) ordered_sum_into(exec, n_, clamped_energy_term(), block_sums_, clamp_record + 5);
@@ -393,18 +409,27 @@ void TlsphSolver<D>::step_verlet(Real t, Real dt) {
   const bool clamps_move = !motions_.empty();
   const Real clamped_energy = clamps_move ? clamped_kinetic_energy() : 0;
   if (clamps_move) clamp_work_ += 0.5 * dt * clamp_power();  // the trapezoidal rule, with the end's below
-  parallel_for(exec, n_, VerletKickDrift<D>{acc_.data(), fixed_.data(), x_.data(), v_.data(), 0.5 * dt, dt});
+  parallel_for(
+      exec, n_,
+      VerletKickDrift<D>{
+          .acc = acc_.data(), .fixed = fixed_.data(), .x = x_.data(), .v = v_.data(), .kick = 0.5 * dt, .drift = dt});
   prescribe_clamps(exec, t + dt);
   evaluate(exec, t + dt);
   pair_evaluations_ += evaluation_passes() * static_cast<long long>(pairs());
-  parallel_for(exec, n_, VerletKickDrift<D>{acc_.data(), fixed_.data(), x_.data(), v_.data(), 0.5 * dt, 0.0});
+  parallel_for(
+      exec, n_,
+      VerletKickDrift<D>{
+          .acc = acc_.data(), .fixed = fixed_.data(), .x = x_.data(), .v = v_.data(), .kick = 0.5 * dt, .drift = 0.0});
   if (clamps_move) clamp_work_ += 0.5 * dt * clamp_power() + clamped_kinetic_energy() - clamped_energy;
 }
 
 template <int D>
 void TlsphSolver<D>::prescribe_clamps(const Exec& exec, Real t) {
   if (motions_.empty()) return;
-  parallel_for(exec, n_, PrescribeClamps<D>{motion_.data(), poses_at(motions_, t), X_.data(), x_.data(), v_.data()});
+  parallel_for(
+      exec, n_,
+      PrescribeClamps<D>{
+          .motion = motion_.data(), .pose = poses_at(motions_, t), .X = X_.data(), .x = x_.data(), .v = v_.data()});
 }
 
 template <int D>
@@ -443,7 +468,12 @@ template <int D>
 typename TlsphSolver<D>::ObstacleContact TlsphSolver<D>::obstacle_contact() const {
   using Measure = typename ObstacleOverlap<D>::Measure;
   const auto overlap = [&](Measure m) {
-    return ObstacleOverlap<D>{obstacles(), materials_.data(), material_.data(), volume_.data(), x_.data(), m};
+    return ObstacleOverlap<D>{.obstacles = obstacles(),
+                              .materials = materials_.data(),
+                              .material = material_.data(),
+                              .volume = volume_.data(),
+                              .x = x_.data(),
+                              .measure = m};
   };
   ObstacleContact c;
   c.energy = ordered_sum(waiting_exec(), n_, overlap(Measure::energy), block_sums_);
@@ -495,14 +525,23 @@ void TlsphSolver<D>::find_obstacle_candidates() {
   const Exec exec = waiting_exec();
   const bool any = !obstacle_point_.empty();
   const CellListView<D> near = exec_.device == Device::cuda ? device_obstacle_cells_.view() : obstacle_cells_.view();
-  parallel_for(exec, n_, CountObstacleCandidates<D>{near, any, fixed_.data(), x_.data(), contact_offset_.data() + 1});
+  parallel_for(
+      exec, n_,
+      CountObstacleCandidates<D>{
+          .near = near, .any = any, .fixed = fixed_.data(), .x = x_.data(), .count = contact_offset_.data() + 1});
   inclusive_scan(exec, contact_offset_.data() + 1, n_);  // contact_offset_[0] stays 0
   const Index candidates = contact_offset_[n_];          // one value back from the device
   resize_for_overwrite(contact_point_, candidates);
   resize_for_overwrite(contact_radius_, candidates);
   parallel_for(exec, n_,
-               FillObstacleCandidates<D>{near, any, fixed_.data(), x_.data(), obstacle_radius_.data(),
-                                         contact_offset_.data(), contact_point_.data(), contact_radius_.data()});
+               FillObstacleCandidates<D>{.near = near,
+                                         .any = any,
+                                         .fixed = fixed_.data(),
+                                         .x = x_.data(),
+                                         .obstacle_radius = obstacle_radius_.data(),
+                                         .offset = contact_offset_.data(),
+                                         .point = contact_point_.data(),
+                                         .radius = contact_radius_.data()});
 }
 
 template <int D>
@@ -540,7 +579,11 @@ Real TlsphSolver<D>::external_power(Real t) const {
   Real p = 0;
   for (std::size_t l = 0; l < loads_.size(); ++l)  // load l's field is load_acc_[l n, (l + 1) n)
     p += ordered_sum(waiting_exec(), n_,
-                     PowerTerm<D>{nullptr, mass_.data(), load_acc_.data() + l * n_, v_.data(), loads_[l].factor(t)},
+                     PowerTerm<D>{.clamped_by = nullptr,
+                                  .mass = mass_.data(),
+                                  .acc = load_acc_.data() + l * n_,
+                                  .v = v_.data(),
+                                  .factor = loads_[l].factor(t)},
                      block_sums_);
   return p;
 }

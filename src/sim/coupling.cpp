@@ -81,9 +81,14 @@ Eigen::VectorXd StructureCoupling<D>::predict_interface(Real t, Real dt, Real be
     fluid.structure_row_directions(row_direction_);
     solver_.own_acceleration(t, own_acceleration_);
     parallel_for(exec_, n,
-                 ChordPrediction<D>{solver_.velocity().data(), v_mean_.data(), own_acceleration_.data(),
-                                    has_last_interaction_ ? last_interaction_.data() : nullptr, solver_.fixed().data(),
-                                    1.0 / dt, 0.5 - beta, a_guess_.data()});
+                 ChordPrediction<D>{.v = solver_.velocity().data(),
+                                    .v_mean = v_mean_.data(),
+                                    .own = own_acceleration_.data(),
+                                    .alpha = has_last_interaction_ ? last_interaction_.data() : nullptr,
+                                    .fixed = solver_.fixed().data(),
+                                    .inverse_dt = 1.0 / dt,
+                                    .alpha_share = 0.5 - beta,
+                                    .out = a_guess_.data()});
     x = along(a_guess_, row_direction_);
     for (Index s = 0; s < n; ++s) wet += norm2(row_direction_[s]) > 0;
   });
@@ -129,8 +134,12 @@ FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid
                       ramp ? InteractionSchedule<D>{.from = last_interaction_.data(), .to = interaction_.data()}
                            : InteractionSchedule<D>{});
       parallel_for(exec_, n,
-                   ChordMotion<D>{solver_.position().data(), x_old_.data(), v_mean_.data(), 1.0 / dt, v_new_.data(),
-                                  a_new_.data()});
+                   ChordMotion<D>{.x = solver_.position().data(),
+                                  .x_old = x_old_.data(),
+                                  .v_mean = v_mean_.data(),
+                                  .inverse_dt = 1.0 / dt,
+                                  .v_new = v_new_.data(),
+                                  .a_new = a_new_.data()});
       scale = along(a_new_, row_direction_).norm();
       if (beta > 0)
         parallel_for(exec_, n,
@@ -181,7 +190,12 @@ void StructureCoupling<D>::explicit_step(Real t, Real dt, WcsphSolver<D>& fluid,
                     {.to = interaction_.data(), .impedance = impedance_.data(), .reference_velocity = v_mean_.data()});
     solver_.update_stress();
     parallel_for(exec_, n,
-                 ChordMotion<D>{solver_.position().data(), x_old_.data(), nullptr, 1.0 / dt, v_new_.data(), nullptr});
+                 ChordMotion<D>{.x = solver_.position().data(),
+                                .x_old = x_old_.data(),
+                                .v_mean = nullptr,
+                                .inverse_dt = 1.0 / dt,
+                                .v_new = v_new_.data(),
+                                .a_new = nullptr});
     fluid.particles().move_structure(solver_.position(), v_new_, solver_.deformation_gradient());
     v_mean_.swap(v_new_);  // the velocity the fluid's next force evaluation sees
   });

@@ -92,8 +92,12 @@ void IsphSolver<D>::compress_matrix() {
   resize_for_overwrite(matrix_.col, matrix_.row_offset[n]);
   resize_for_overwrite(matrix_.val, matrix_.row_offset[n]);
   parallel_for(exec_, n,
-               CompactRow{full.row_offset.data(), full.col.data(), full.val.data(), matrix_.row_offset.data(),
-                          matrix_.col.data(), matrix_.val.data()});
+               CompactRow{.row_offset = full.row_offset.data(),
+                          .col = full.col.data(),
+                          .val = full.val.data(),
+                          .out_offset = matrix_.row_offset.data(),
+                          .out_col = matrix_.col.data(),
+                          .out_val = matrix_.val.data()});
 }
 
 template <int D>
@@ -133,12 +137,24 @@ void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
   // at r*, where the particles may be re-sorted; r^n is then recovered as r* - dt u^n.
   timer.time("neighbours", [&] {
     parallel_for(exec_, n,
-                 Drift<D>{particles_.kind.data(), particles_.velocity.data(), particles_.wall_velocity.data(), dt, true,
-                          particles_.period(), particles_.position.data(), particles_.position.data()});
+                 Drift<D>{.kind = particles_.kind.data(),
+                          .u = particles_.velocity.data(),
+                          .wall_velocity = particles_.wall_velocity.data(),
+                          .step = dt,
+                          .wrap = true,
+                          .period = particles_.period(),
+                          .from = particles_.position.data(),
+                          .to = particles_.position.data()});
     particles_.find_neighbours();
     parallel_for(exec_, n,
-                 Drift<D>{particles_.kind.data(), particles_.velocity.data(), particles_.wall_velocity.data(), -dt,
-                          false, particles_.period(), particles_.position.data(), x_old_.data()});
+                 Drift<D>{.kind = particles_.kind.data(),
+                          .u = particles_.velocity.data(),
+                          .wall_velocity = particles_.wall_velocity.data(),
+                          .step = -dt,
+                          .wrap = false,
+                          .period = particles_.period(),
+                          .from = particles_.position.data(),
+                          .to = x_old_.data()});
   });
   const FluidView<D> v = particles_.view();
   FluidView<D> pv = v;  // the pressure stages' view: dry walls have no volume (PressureVolume)
@@ -148,8 +164,13 @@ void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
   timer.time("predictor", [&] {
     if (kernel_correction_) parallel_for(exec_, n, LaplacianRenormalisation<D>{v.op, L_.data(), Bhat_.data()});
     parallel_for(exec_, n,
-                 VelocityGradient<D>{v, L_.data(), particles_.velocity.data(), true, sps ? settings_.smagorinsky : 0.0,
-                                     grad_u_.data(), eddy_viscosity_.data()});
+                 VelocityGradient<D>{.v = v,
+                                     .L = L_.data(),
+                                     .u = particles_.velocity.data(),
+                                     .no_slip = true,
+                                     .smagorinsky = sps ? settings_.smagorinsky : 0.0,
+                                     .grad = grad_u_.data(),
+                                     .eddy_viscosity = eddy_viscosity_.data()});
     const ViscousAcceleration<D> viscous{
         v,         Bhat_.data(), grad_u_.data(), particles_.velocity.data(), sps ? eddy_viscosity_.data() : nullptr,
         viscosity_};
@@ -160,16 +181,25 @@ void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
   // Free surface (Fig. 2) and Skillen's coefficient (Eq. 17).
   Index pinned = -1;
   timer.time("free_surface", [&] {
-    parallel_for(
-        exec_, n,
-        SurfaceDetection<D>{v, thresholds_, settings_.free_surface, div_r_.data(), detected_.data(), alpha_.data()});
+    parallel_for(exec_, n,
+                 SurfaceDetection<D>{.v = v,
+                                     .thresholds = thresholds_,
+                                     .detect = settings_.free_surface,
+                                     .div_r = div_r_.data(),
+                                     .cls = detected_.data(),
+                                     .alpha = alpha_.data()});
     parallel_for(exec_, n, NearSurfaceDetection<D>{v, detected_.data(), cls_.data()});
     // p is defined up to a constant without a Dirichlet row: fix it at the fluid particle of lowest id.
     if (parallel_reduce(exec_, n, Index{0}, DirichletRow{particles_.kind.data(), alpha_.data()}, IntegerSum{}) == 0)
       pinned = lowest_id_particle(exec_, n, IsFluid{particles_.kind.data()}, particles_.id.data());
     parallel_for(exec_, n, PressureVolume<D>{v, alpha_.data(), pressure_volume_.data()});
     if (kernel_correction_) parallel_for(exec_, n, GradientCorrection<D>{pv.op, L_.data()});
-    parallel_for(exec_, n, SurfaceNormal<D>{pv, L_.data(), cls_.data(), alpha_.data(), surface_normal_.data()});
+    parallel_for(exec_, n,
+                 SurfaceNormal<D>{.v = pv,
+                                  .L = L_.data(),
+                                  .cls = cls_.data(),
+                                  .alpha = alpha_.data(),
+                                  .surface_normal = surface_normal_.data()});
   });
 
   // Eqs. 14-16: assemble the PPE as CSR and solve it.
@@ -181,10 +211,24 @@ void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
     resize_for_overwrite(full_matrix_.col, full_matrix_.row_offset[n]);
     resize_for_overwrite(full_matrix_.val, full_matrix_.row_offset[n]);
     parallel_for(exec_, n,
-                 PpeRowFill<D>{pv, L_.data(), alpha_.data(), div_u_star_.data(), density_, dt, gravity_, cls_.data(),
-                               surface_normal_.data(), extrapolate_surface_, pinned, full_matrix_.col.data(),
-                               full_matrix_.val.data(), rhs_.data(), wall_moment_.data(),
-                               particles_.structure_index.data(), structure_inverse_density_, added_mass_});
+                 PpeRowFill<D>{.v = pv,
+                               .L = L_.data(),
+                               .alpha = alpha_.data(),
+                               .div_u_star = div_u_star_.data(),
+                               .density = density_,
+                               .dt = dt,
+                               .gravity = gravity_,
+                               .cls = cls_.data(),
+                               .surface_normal = surface_normal_.data(),
+                               .extrapolate_surface = extrapolate_surface_,
+                               .pinned = pinned,
+                               .col = full_matrix_.col.data(),
+                               .val = full_matrix_.val.data(),
+                               .rhs = rhs_.data(),
+                               .wall_moment = wall_moment_.data(),
+                               .structure_index = particles_.structure_index.data(),
+                               .structure_inverse_density = structure_inverse_density_,
+                               .added_mass = added_mass_});
     compress_matrix();
     solves_since_assembly_ = 0;
   });
@@ -266,7 +310,13 @@ void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
   // Eqs. 18-19: projection and position update.
   timer.time("projection", [&] {
     parallel_for(exec_, n, CorrectedGradient<D>{pv.op, L_.data(), particles_.pressure.data(), grad_p_.data()});
-    parallel_for(exec_, n, Project<D>{v, grad_p_.data(), u_star_.data(), density_, dt, u_new_.data()});
+    parallel_for(exec_, n,
+                 Project<D>{.v = v,
+                            .grad_p = grad_p_.data(),
+                            .u_star = u_star_.data(),
+                            .density = density_,
+                            .dt = dt,
+                            .u_new = u_new_.data()});
     if (settings_.collision.distance > 0) {
       parallel_for(exec_, n,
                    ParticleCollision<D>{.v = v,
@@ -277,8 +327,14 @@ void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
       u_new_.swap(u_collided_);
     }
     parallel_for(exec_, n,
-                 Advance<D>{particles_.kind.data(), particles_.wall_velocity.data(), u_new_.data(), x_old_.data(), dt,
-                            particles_.period(), particles_.velocity.data(), particles_.position.data()});
+                 Advance<D>{.kind = particles_.kind.data(),
+                            .wall_velocity = particles_.wall_velocity.data(),
+                            .u_new = u_new_.data(),
+                            .x_old = x_old_.data(),
+                            .dt = dt,
+                            .period = particles_.period(),
+                            .u = particles_.velocity.data(),
+                            .x = particles_.position.data()});
   });
 
   // Eqs. 20-26, 31-32: shifting at r^{n+1}, with the neighbour list, classes and surface normals of r*.
@@ -286,21 +342,40 @@ void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
     timer.time("shifting", [&] {
       if (kernel_correction_) parallel_for(exec_, n, GradientCorrection<D>{pv.op, L_.data()});
       const Real zeta = particles_.max_speed() * dt;
-      parallel_for(
-          exec_, n,
-          ShiftDisplacement<D>{pv, particles_.volume.data(), cls_.data(), surface_normal_.data(), shifting_,
-                               settings_.shifting.coefficient, zeta, settings_.shifting.max_fraction * kernel_.h,
-                               fsi_shifting_ && particles_.has_structure(), fsi_shifting_law_,
-                               particles_.velocity.data(), dt, shift_.data()});
+      parallel_for(exec_, n,
+                   ShiftDisplacement<D>{.v = pv,
+                                        .volume = particles_.volume.data(),
+                                        .cls = cls_.data(),
+                                        .surface_normal = surface_normal_.data(),
+                                        .type = shifting_,
+                                        .coefficient = settings_.shifting.coefficient,
+                                        .zeta = zeta,
+                                        .max_shift = settings_.shifting.max_fraction * kernel_.h,
+                                        .fsi_layer = fsi_shifting_ && particles_.has_structure(),
+                                        .fsi_law = fsi_shifting_law_,
+                                        .velocity = particles_.velocity.data(),
+                                        .dt = dt,
+                                        .shift = shift_.data()});
       if (settings_.shifting.taylor_correction) {
-        parallel_for(
-            exec_, n,
-            VelocityGradient<D>{pv, L_.data(), particles_.velocity.data(), false, 0.0, grad_u_.data(), nullptr});
+        parallel_for(exec_, n,
+                     VelocityGradient<D>{.v = pv,
+                                         .L = L_.data(),
+                                         .u = particles_.velocity.data(),
+                                         .no_slip = false,
+                                         .smagorinsky = 0.0,
+                                         .grad = grad_u_.data(),
+                                         .eddy_viscosity = nullptr});
         parallel_for(exec_, n, CorrectedGradient<D>{pv.op, L_.data(), particles_.pressure.data(), grad_p_.data()});
         parallel_for(exec_, n,
-                     TaylorCorrection<D>{pv, cls_.data(), shift_.data(), grad_u_.data(), grad_p_.data(),
-                                         particles_.velocity.data(), particles_.pressure.data(), u_new_.data(),
-                                         p_trial_.data()});
+                     TaylorCorrection<D>{.v = pv,
+                                         .cls = cls_.data(),
+                                         .shift = shift_.data(),
+                                         .grad_u = grad_u_.data(),
+                                         .grad_p = grad_p_.data(),
+                                         .u = particles_.velocity.data(),
+                                         .p = particles_.pressure.data(),
+                                         .u_out = u_new_.data(),
+                                         .p_out = p_trial_.data()});
         particles_.velocity.swap(u_new_);
         particles_.pressure.swap(p_trial_);
       }
@@ -319,16 +394,24 @@ void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
 template <int D>
 void IsphSolver<D>::boundary_pressure_force(bool pairwise, FluidKind target) {
   parallel_for(exec_, particles_.size(),
-               BoundaryPressureForce<D>{particles_.view(), particles_.pressure.data(), L_structure_.data(),
-                                        grad_p_.data(), particles_.boundary_force.data(), pairwise, target});
+               BoundaryPressureForce<D>{.v = particles_.view(),
+                                        .p = particles_.pressure.data(),
+                                        .L = L_structure_.data(),
+                                        .grad_p = grad_p_.data(),
+                                        .force_density = particles_.boundary_force.data(),
+                                        .pairwise = pairwise,
+                                        .target = target});
 }
 
 template <int D>
 void IsphSolver<D>::set_structure_acceleration(std::span<const Vec<D>> a) {
   particles_.follow_structure_acceleration(a);
-  parallel_for(
-      exec_, particles_.size(),
-      StructureRowRhs<D>{particles_.structure_index.data(), a.data(), gravity_, wall_moment_.data(), rhs_.data()});
+  parallel_for(exec_, particles_.size(),
+               StructureRowRhs<D>{.structure_index = particles_.structure_index.data(),
+                                  .acceleration = a.data(),
+                                  .gravity = gravity_,
+                                  .wall_moment = wall_moment_.data(),
+                                  .rhs = rhs_.data()});
 }
 
 template <int D>

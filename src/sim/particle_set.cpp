@@ -190,9 +190,18 @@ void ParticleSet<D>::restore(const SnapshotData& snapshot) {
 template <int D>
 void ParticleSet<D>::prescribe_walls(Real dt) {
   parallel_for(exec_, size(),
-               PrescribeWalls<D>{motion.data(), poses_at(motions_, time), poses_at(motions_, time + dt),
-                                 reference_position.data(), reference_normal.data(), dt, period_, position.data(),
-                                 velocity.data(), wall_velocity.data(), wall_acceleration.data(), wall_normal.data()});
+               PrescribeWalls<D>{.motion = motion.data(),
+                                 .now = poses_at(motions_, time),
+                                 .next = poses_at(motions_, time + dt),
+                                 .reference_x = reference_position.data(),
+                                 .reference_normal = reference_normal.data(),
+                                 .dt = dt,
+                                 .period = period_,
+                                 .x = position.data(),
+                                 .u = velocity.data(),
+                                 .wall_velocity = wall_velocity.data(),
+                                 .wall_acceleration = wall_acceleration.data(),
+                                 .wall_normal = wall_normal.data()});
 }
 
 template <int D>
@@ -204,9 +213,13 @@ void ParticleSet<D>::gather_walls(StateVector<Vec<D>>& point, StateVector<Real>&
   inclusive_scan(exec_, wall_slot_.data() + 1, n);
   resize_for_overwrite(point, wall_slot_[n]);  // the number of walls: one value back from the device
   resize_for_overwrite(radius, wall_slot_[n]);
-  parallel_for(
-      exec_, n,
-      GatherWalls<D>{kind.data(), position.data(), volume.data(), wall_slot_.data(), point.data(), radius.data()});
+  parallel_for(exec_, n,
+               GatherWalls<D>{.kind = kind.data(),
+                              .x = position.data(),
+                              .volume = volume.data(),
+                              .slot = wall_slot_.data(),
+                              .point = point.data(),
+                              .radius = radius.data()});
 }
 
 template <int D>
@@ -220,7 +233,11 @@ Vec<D> ParticleSet<D>::gather_structure_force(std::span<Vec<D>> force_density) c
 // F_body = sum over the body's particles of V_a f_a, f_a the pressure force density on particle a.
 template <int D>
 Vec<D> ParticleSet<D>::body_force(Index body_index) const {
-  return summed(size(), ForceComponent<D>{volume.data(), boundary_force.data(), 0, body.data(), body_index});
+  return summed(size(), ForceComponent<D>{.volume = volume.data(),
+                                          .force_density = boundary_force.data(),
+                                          .d = 0,
+                                          .body = body.data(),
+                                          .target = body_index});
 }
 
 template <int D>
@@ -253,8 +270,15 @@ void ParticleSet<D>::record_viscous_wall_power(const ViscousAcceleration<D>& vis
 template <int D>
 void ParticleSet<D>::move_structure(std::span<const Vec<D>> x, std::span<const Vec<D>> v, std::span<const Mat<D>> F) {
   parallel_for(exec_, size(),
-               FollowStructure<D>{structure_index.data(), x.data(), v.data(), F.data(), reference_normal.data(),
-                                  position.data(), velocity.data(), wall_velocity.data(), wall_normal.data()});
+               FollowStructure<D>{.structure_index = structure_index.data(),
+                                  .x = x.data(),
+                                  .v = v.data(),
+                                  .F = F.data(),
+                                  .reference_normal = reference_normal.data(),
+                                  .position = position.data(),
+                                  .velocity = velocity.data(),
+                                  .wall_velocity = wall_velocity.data(),
+                                  .wall_normal = wall_normal.data()});
 }
 
 template <int D>
@@ -269,7 +293,12 @@ InteractionReport<D> ParticleSet<D>::contact(FluidKind body) {
   inside_.resize(n);
   body_distance_.resize(n);
   body_depth_.resize(n);
-  parallel_for(exec_, n, BodyContact<D>{view(), body, inside_.data(), body_distance_.data(), body_depth_.data()});
+  parallel_for(exec_, n,
+               BodyContact<D>{.v = view(),
+                              .body = body,
+                              .inside = inside_.data(),
+                              .distance = body_distance_.data(),
+                              .depth = body_depth_.data()});
   InteractionReport<D> report;
   report.fluid_inside = parallel_reduce(exec_, n, Index{0}, Flagged{inside_.data()}, IntegerSum{});
   const Real nearest = parallel_reduce(exec_, n, kOutOfReach, ScalarAt{body_distance_.data()}, MinOf{});

@@ -130,19 +130,34 @@ void WcsphSolver<D>::configure(Real dt, PhaseTimer& timer) {
   const FluidView<D> v = particles_.view();
   if (dual_)
     timer.time("density", [&] {
-      parallel_for(
-          exec_, n,
-          DensityReinitialisation<D>{v, density_, self_weight_, full_sum_, settings_.free_surface, rho_.data()});
       parallel_for(exec_, n,
-                   EquationOfState<D>{particles_.kind.data(), nullptr, 0.0, density_, sound_speed_, rho_.data(),
-                                      particles_.pressure.data()});
+                   DensityReinitialisation<D>{.v = v,
+                                              .density = density_,
+                                              .self_weight = self_weight_,
+                                              .full_sum = full_sum_,
+                                              .free_surface = settings_.free_surface,
+                                              .rho = rho_.data()});
+      parallel_for(exec_, n,
+                   EquationOfState<D>{.kind = particles_.kind.data(),
+                                      .drho_dt = nullptr,
+                                      .dt = 0.0,
+                                      .density = density_,
+                                      .sound_speed = sound_speed_,
+                                      .rho = rho_.data(),
+                                      .p = particles_.pressure.data()});
       forces_current_ = false;
     });
   if (viscosity_ > 0)
     timer.time("viscosity", [&] {
       if (kernel_correction_) parallel_for(exec_, n, LaplacianRenormalisation<D>{v.op, L_.data(), Bhat_.data()});
       parallel_for(exec_, n,
-                   VelocityGradient<D>{v, L_.data(), particles_.velocity.data(), true, 0.0, grad_u_.data(), nullptr});
+                   VelocityGradient<D>{.v = v,
+                                       .L = L_.data(),
+                                       .u = particles_.velocity.data(),
+                                       .no_slip = true,
+                                       .smagorinsky = 0.0,
+                                       .grad = grad_u_.data(),
+                                       .eddy_viscosity = nullptr});
       const ViscousAcceleration<D> viscous{v,       Bhat_.data(), grad_u_.data(), particles_.velocity.data(),
                                            nullptr, viscosity_,   viscous_.data()};
       parallel_for(exec_, n, viscous);
@@ -156,7 +171,12 @@ void WcsphSolver<D>::evaluate_forces() {
   const Index n = particles_.size();
   const FluidView<D> v = particles_.view();
   parallel_for(exec_, n,
-               BoundaryPressure<D>{v, gravity_, density_, sound_speed_, particles_.pressure.data(), rho_.data()});
+               BoundaryPressure<D>{.v = v,
+                                   .gravity = gravity_,
+                                   .density = density_,
+                                   .sound_speed = sound_speed_,
+                                   .p = particles_.pressure.data(),
+                                   .rho = rho_.data()});
   RiemannInteraction<D> momentum = riemann();
   momentum.acceleration = acceleration_.data();
   momentum.boundary_force = particles_.boundary_force.data();
@@ -192,23 +212,36 @@ void WcsphSolver<D>::acoustic_step(Real dt, PhaseTimer& timer, const AcousticHoo
   const Index n = particles_.size();
   auto kick = [&] {
     parallel_for(exec_, n,
-                 VerletKick<D>{particles_.kind.data(), acceleration_.data(), viscous_.data(), gravity_, 0.5 * dt,
-                               particles_.velocity.data()});
+                 VerletKick<D>{.kind = particles_.kind.data(),
+                               .acceleration = acceleration_.data(),
+                               .viscous = viscous_.data(),
+                               .gravity = gravity_,
+                               .half_dt = 0.5 * dt,
+                               .u = particles_.velocity.data()});
   };
   timer.time("integration", kick);
   if (hook) hook(particles_.time, dt);
   timer.time("integration", [&] {
     parallel_for(exec_, n,
-                 VerletDrift<D>{particles_.kind.data(), particles_.velocity.data(), particles_.wall_velocity.data(), dt,
-                                particles_.period(), particles_.position.data()});
+                 VerletDrift<D>{.kind = particles_.kind.data(),
+                                .u = particles_.velocity.data(),
+                                .wall_velocity = particles_.wall_velocity.data(),
+                                .dt = dt,
+                                .period = particles_.period(),
+                                .x = particles_.position.data()});
   });
   timer.time("density", [&] {
     RiemannInteraction<D> continuity = riemann();
     continuity.drho_dt = drho_dt_.data();
     parallel_for(exec_, n, continuity);
     parallel_for(exec_, n,
-                 EquationOfState<D>{particles_.kind.data(), drho_dt_.data(), dt, density_, sound_speed_, rho_.data(),
-                                    particles_.pressure.data()});
+                 EquationOfState<D>{.kind = particles_.kind.data(),
+                                    .drho_dt = drho_dt_.data(),
+                                    .dt = dt,
+                                    .density = density_,
+                                    .sound_speed = sound_speed_,
+                                    .rho = rho_.data(),
+                                    .p = particles_.pressure.data()});
   });
   timer.time("pressure_force", [&] { evaluate_forces(); });
   timer.time("integration", kick);
