@@ -58,9 +58,13 @@ def run_point(args, case, folder, overrides, budget):
     record_path, summary_path = os.path.join(folder, "stability_run.json"), os.path.join(folder, "summary.json")
     if os.path.exists(record_path) and os.path.exists(summary_path):
         with open(record_path) as f:
-            if json.load(f).get("command") == command[1:]:
-                with open(summary_path) as g:
-                    return json.load(g)
+            record = json.load(f)
+        with open(summary_path) as g:
+            summary = json.load(g)
+        # done, unless the budget stopped it and this one is larger
+        if record.get("command") == command[1:] and not (
+                summary["status"] == "interrupted" and budget > record.get("budget", 0)):
+            return summary
     for stale in (record_path, summary_path):  # a stopped run must not look finished
         if os.path.exists(stale):
             os.remove(stale)
@@ -77,7 +81,7 @@ def run_point(args, case, folder, overrides, budget):
         print(f"  error: exit {proc.returncode}; see {folder}/stderr.txt", file=sys.stderr)
         return None
     with open(record_path, "w") as f:
-        json.dump({"command": command[1:], "returncode": proc.returncode}, f)
+        json.dump({"command": command[1:], "returncode": proc.returncode, "budget": budget}, f)
     with open(summary_path) as f:
         return json.load(f)
 
@@ -126,48 +130,52 @@ def main():
     ap.add_argument("--cases", help="comma-separated case names (default: every cases/*.toml)")
     ap.add_argument("--factors", default="1,1.5,2")
     ap.add_argument("--budget", type=float, default=150, help="wall seconds per run where BUDGETS names none")
+    ap.add_argument("--budgets", default="", help="NAME=SECONDS,... : these cases' budgets instead (a point the "
+                    "budget stopped runs again, to its end or the new budget, when the new one is larger)")
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--out", default=os.path.join(ROOT, "runs", "stability_table"))
     ap.add_argument("--isph", default=os.path.join(ROOT, "build", "isph"))
     ap.add_argument("--report-only", action="store_true", help="tabulate the runs found, run nothing")
     args = ap.parse_args()
     factors = [float(f) for f in args.factors.split(",")]
+    budgets = dict(BUDGETS)
+    budgets.update({k: float(v) for k, v in (item.split("=") for item in args.budgets.split(",") if item)})
     cases = sorted(glob.glob(os.path.join(ROOT, "cases", "*.toml")))
     if args.cases:
         wanted = set(args.cases.split(","))
         cases = [c for c in cases if os.path.basename(c)[:-5] in wanted]
+    shown = sorted(set(factors) | {1.0, 1.5, 2.0})  # the table shows every point run so far
     rows = []
     for case in cases:
         name = os.path.basename(case)[:-5]
-        budget = BUDGETS.get(name, args.budget)
+        budget = budgets.get(name, args.budget)
         base = os.path.join(args.out, name)
         first = os.path.join(base, factor_label(1.0))
-        if not args.report_only and run_point(args, case, first, [], budget) is None:
+        # the shipped point gives the Courant number the others scale; it runs when asked for or missing
+        run_first = 1.0 in factors or not os.path.exists(os.path.join(first, "case.resolved.toml"))
+        if not args.report_only and run_first and run_point(args, case, first, [], budget) is None:
             continue
-        if not os.path.exists(os.path.join(first, "summary.json")):
+        if not os.path.exists(os.path.join(first, "case.resolved.toml")):
             continue
         with open(os.path.join(first, "case.resolved.toml"), "rb") as f:
             resolved = tomllib.load(f)
         key, value = courant_key(resolved)
-        for factor in factors:
-            folder = os.path.join(base, factor_label(factor))
-            if args.report_only:
-                if not os.path.exists(os.path.join(folder, "summary.json")):
-                    continue
-                with open(os.path.join(folder, "summary.json")) as f:
-                    s = json.load(f)
-            else:
-                overrides = [] if factor == 1.0 else [f"{key}={value * factor:.6g}"]
-                s = run_point(args, case, folder, overrides, budget)
-                if s is None:
-                    continue
-            rows.append(row_of(name, factor, key, value, resolved["end_time"], s))
+        if not args.report_only:
+            for factor in factors:
+                if factor != 1.0:
+                    run_point(args, case, os.path.join(base, factor_label(factor)),
+                              [f"{key}={value * factor:.6g}"], budget)
+        for factor in shown:
+            summary_path = os.path.join(base, factor_label(factor), "summary.json")
+            if os.path.exists(summary_path):
+                with open(summary_path) as f:
+                    rows.append(row_of(name, factor, key, value, resolved["end_time"], json.load(f)))
     os.makedirs(args.out, exist_ok=True)
     with open(os.path.join(args.out, "table.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()) if rows else ["case"])
         w.writeheader()
         w.writerows(rows)
-    text = markdown(rows, factors)
+    text = markdown(rows, shown)
     with open(os.path.join(args.out, "table.md"), "w") as f:
         f.write(text)
     print(text)
