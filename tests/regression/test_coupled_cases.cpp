@@ -350,6 +350,44 @@ TEST(CoupledWedge, SlammingBendsThePanelsAndLoadsTheKeelLikeTheAnalyticalSolutio
   EXPECT_EQ(json_number(s, "fluid_inside_wall_max"), 0) << s;
 }
 
+// The dam break on Walhorn's elastic obstacle (cases/baffle_walhorn.toml as shipped) over its first
+// swing, to 0.283 s: the tip opens like the four simulations of ../shared/reference (Bogaers 2016,
+// Idelsohn 2008, Liu 2013, Sun 2019: peaks 45.0-48.3 mm at 0.217-0.260 s), no fluid enters the obstacle
+// or the walls, and the energy books find nothing created beyond 1 % of the case's scale. Measured
+// 2026-12-06: peak 46.80 mm at 0.224 s; u_x RMSE 2.71 / 3.72 / 2.94 / 4.04 mm (mean 3.35 mm); 0.0014 of
+// the scale created (docs/VALIDATION.md section 16). About 15 s.
+TEST(CoupledObstacle, WalhornDamBreakBendsTheObstacleLikeTheReferences) {
+  const fs::path out = fresh_dir("coupled_walhorn");
+  const auto r = isph("run " + kCases + "baffle_walhorn.toml --quiet --out " + out.string() +
+                      " --set end_time=0.283 --set output.snapshots=false");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto probes = read_csv(out / "probes.csv");
+  const auto& t = probes.at("time");
+  const auto& ux = probes.at("tip.ux");
+  const std::size_t peak = static_cast<std::size_t>(std::max_element(ux.begin(), ux.end()) - ux.begin());
+  EXPECT_GT(ux[peak], 0.97 * 45.0e-3);
+  EXPECT_LT(ux[peak], 1.03 * 48.3e-3);
+  EXPECT_GT(t[peak], 0.21);
+  EXPECT_LT(t[peak], 0.27);
+  EXPECT_NEAR(ux[peak], 46.80e-3, 0.02 * 46.80e-3);
+  double mean_rmse = 0;
+  for (const char* source : {"bogaers_2016_qn_ls", "idelsohn_2008_pfrem", "liu_2013_sph", "sun_2019_mps_dem"}) {
+    const auto reference =
+        read_reference(std::string("walhorn_2005_dam_break_elastic_obstacle/"
+                                   "sun_2019_dam_breaking_flow_impacting_an_elastic_plate_x_displacement_") +
+                       source + ".csv");
+    ASSERT_GT(reference.size(), 2u) << source;
+    const double rmse = rmse_against(t, ux, reference);
+    EXPECT_LT(rmse, 5e-3) << source;
+    mean_rmse += rmse / 4;
+  }
+  EXPECT_NEAR(mean_rmse, 3.35e-3, 0.05 * 3.35e-3);
+  const std::string s = read_file(out / "summary.json");
+  EXPECT_LT(json_number(s, "peak_created_fraction"), 0.01) << s;
+  EXPECT_EQ(json_number(s, "fluid_inside_structure_max"), 0) << s;
+  EXPECT_EQ(json_number(s, "fluid_inside_wall_max"), 0) << s;
+}
+
 // Every bundled case passes `isph check` (the rolling tank's roll history is found beside it).
 TEST(BundledCases, AllPassCheck) {
   for (const auto& entry : fs::directory_iterator(kCases)) {

@@ -3,6 +3,7 @@
 // contract, and the error handling. Seconds each.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -79,6 +80,30 @@ TEST(OscillatingPlate, CoarsePeriodAmplitudeAndEnergy) {
   auto e = read_csv(out / "energy.csv");
   const auto& total = e["total"];
   for (double v : total) EXPECT_NEAR(v, total.front(), 1e-3 * total.front());
+}
+
+// Turek-Hron CSM3 at T/dx = 4 over one period: released from rest under gravity without damping, point A
+// swings down to the lowest point of the periodic motion Turek & Hron give (finest level:
+// u_y = -63.607 - 65.160 = -128.767 mm, u_x = -2 x 14.305 = -28.61 mm) half a period later
+// (1 / (2 x 1.0995 Hz) = 0.4548 s), and the energy stays where it started. Measured 2026-12-06:
+// -130.67 mm (+1.5 %), -29.59 mm (+3.4 %) at 0.4600 s (+1.2 %); docs/VALIDATION.md section 3.
+TEST(Csm3Beam, CoarseFirstSwingMatchesTurekHron) {
+  const fs::path out = fresh_dir("csm3");
+  const auto r = isph("run " + kCases + "csm3_beam.toml --quiet --out " + out.string() +
+                      " --set dx=0.005 --set end_time=0.7 --set output.interval=2e-3 --set output.snapshots=false");
+  ASSERT_EQ(r.status, 0) << r.output;
+  auto p = read_csv(out / "probes.csv");
+  const auto& uy = p["A.uy"];
+  const std::size_t lowest = static_cast<std::size_t>(std::min_element(uy.begin(), uy.end()) - uy.begin());
+  ASSERT_LT(p["time"][lowest], 0.69) << "the bar had not turned back by the end of the run";
+  EXPECT_NEAR(uy[lowest], -128.767e-3, 0.025 * 128.767e-3);
+  EXPECT_NEAR(p["A.ux"][lowest], -28.61e-3, 0.05 * 28.61e-3);
+  EXPECT_NEAR(p["time"][lowest], 0.4548, 0.02 * 0.4548);
+  EXPECT_NEAR(uy[lowest], -130.67e-3, 0.005 * 130.67e-3);
+  EXPECT_NEAR(p["A.ux"][lowest], -29.59e-3, 0.01 * 29.59e-3);
+  auto e = read_csv(out / "energy.csv");
+  const double strain_max = *std::max_element(e["structure_strain"].begin(), e["structure_strain"].end());
+  for (double v : e["total"]) EXPECT_NEAR(v, e["total"].front(), 1e-6 * strain_max);
 }
 
 // The output contract of DESIGN.md: files, headers and summary keys.
