@@ -23,7 +23,6 @@
 #include <vector>
 
 #include "core/device_memory.hpp"
-#include "core/device_neighbour_search.hpp"
 #include "core/neighbour_search.hpp"
 #include "kernels/operators.hpp"
 
@@ -90,11 +89,11 @@ PassResult device_pass(const Block& b, const SmoothingKernel<2>& kernel, int rep
   const Exec gpu{Device::cuda};
   DeviceArray<Vec<2>> x(b.x);
   DeviceArray<Real> volume(b.volume), f(b.f);
-  DeviceCellList<2> cells;
-  cells.build(x.data(), n, kernel.support());  // warm-up (CUB and context start-up)
+  CellList<2> cells(gpu);
+  cells.build(x.data(), n, kernel.support());  // warm-up (thrust and context start-up)
   auto start = Clock::now();
   cells.build(x.data(), n, kernel.support());
-  const DeviceNeighbourList list = device_neighbour_list(cells, n);
+  const NeighbourList list = neighbour_list(cells, n);
   r.build_seconds = seconds_since(start);
   r.pairs = static_cast<Index>(list.index.size());
   const OperatorView<2> v{n, x.data(), volume.data(), list.offset.data(), list.index.data(), kernel};

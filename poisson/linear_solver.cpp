@@ -99,14 +99,6 @@ Index first(const Exec& exec, Index n, const F& f) {
   return parallel_reduce(exec, n, kNone, f, MinOf{});
 }
 
-template <class T>
-T read_back(const Exec& exec, const T* p) {
-  if (exec.device == Device::cpu) return *p;
-  T v;
-  copy_device_to_host(&v, p, sizeof(T));
-  return v;
-}
-
 StateVector<double> work_array(const Exec& exec) {
   return StateVector<double>(StateAllocator<double>(exec.device == Device::cuda));
 }

@@ -513,10 +513,7 @@ void TlsphSolver<D>::set_obstacles(std::span<const Vec<D>> point, std::span<cons
   resize_for_overwrite(obstacle_radius_, m);
   parallel_for(exec_reading(point.data()), m, CopyElements<Vec<D>>{point.data(), obstacle_point_.data()});
   parallel_for(exec_reading(radius.data()), m, CopyElements<Real>{radius.data(), obstacle_radius_.data()});
-  if (m > 0 && exec_.device == Device::cuda)  // both keep addressing obstacle_point_
-    device_obstacle_cells_.build(obstacle_point_.data(), m, reach);
-  else if (m > 0)
-    obstacle_cells_.build(obstacle_point_, reach);
+  if (m > 0) obstacle_cells_.build(obstacle_point_.data(), m, reach);  // keeps addressing obstacle_point_
   find_obstacle_candidates();
 }
 
@@ -524,7 +521,7 @@ template <int D>
 void TlsphSolver<D>::find_obstacle_candidates() {
   const Exec exec = waiting_exec();
   const bool any = !obstacle_point_.empty();
-  const CellListView<D> near = exec_.device == Device::cuda ? device_obstacle_cells_.view() : obstacle_cells_.view();
+  const CellListView<D> near = obstacle_cells_.view();
   parallel_for(
       exec, n_,
       CountObstacleCandidates<D>{

@@ -18,7 +18,6 @@
 #include <vector>
 
 #include "core/device_memory.hpp"
-#include "core/device_neighbour_search.hpp"
 #include "core/neighbour_search.hpp"
 #include "core/parallel.hpp"
 #include "core/rigid_motion.hpp"
@@ -225,8 +224,7 @@ class TlsphSolver {
   StateVector<Vec<D>> load_acc_, interaction_;
   StateVector<Vec<D>> obstacle_point_;  // the obstacles (set_obstacles) and their cell list (the device's on cuda)
   StateVector<Real> obstacle_radius_;
-  CellList<D> obstacle_cells_;
-  DeviceCellList<D> device_obstacle_cells_;
+  CellList<D> obstacle_cells_{exec_};
   StateVector<Index> contact_offset_;  // obstacle candidates per particle (find_obstacle_candidates)
   StateVector<Vec<D>> contact_point_;
   StateVector<Real> contact_radius_;

@@ -94,6 +94,16 @@ void resize_for_overwrite(StateVector<T>& v, std::size_t n) {
   v.resize(n);
 }
 
+// One element that a launch on exec wrote, read on the host: on the cuda device by an explicit copy,
+// so that no page of managed memory moves to the host for it.
+template <class T>
+T read_back(const Exec& exec, const T* p) {
+  if (exec.device != Device::cuda) return *p;
+  T value;
+  copy_device_to_host(&value, p, sizeof(T));
+  return value;
+}
+
 // Moves v's contents into managed memory (the device can then read and write it).
 template <class T>
 void make_device_visible(StateVector<T>& v) {

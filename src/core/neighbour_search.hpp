@@ -1,15 +1,17 @@
 #pragma once
 // Cell-linked list neighbour search. Particles are bucketed into cells of size >= the search
-// radius by a stable counting sort; a particle's neighbours are found in the 3^D surrounding
+// radius by a stable sort by cell; a particle's neighbours are found in the 3^D surrounding
 // cells. On a periodic axis the grid spans exactly one period and the cell block wraps around, with
 // pair vectors taken as minimum images (core/periodic.hpp). The neighbour list is CSR (offset,
 // index), built by two gather loops (count, fill) through the common launcher, so it runs wherever
 // the other particle loops run.
 #include <algorithm>
+#include <limits>
 #include <span>
 #include <stdexcept>
 #include <vector>
 
+#include "core/device_memory.hpp"
 #include "core/parallel.hpp"
 #include "core/periodic.hpp"
 #include "core/types.hpp"
@@ -155,77 +157,120 @@ CellGrid<D> make_cell_grid(const Vec<D>& lo, const Vec<D>& hi, Real radius, cons
   return grid;
 }
 
+// The coordinate d of each position, as a functor Index -> Real (the bounding box's reductions).
+template <int D>
+struct PositionComponent {
+  const Vec<D>* x;
+  int d;
+  ISPH_HD Real operator()(Index i) const { return x[i][d]; }
+};
+
+// Each particle's cell and its own index: the keys and values of the sort by cell.
+template <int D>
+struct CellKeys {
+  CellGrid<D> grid;
+  const Vec<D>* x;
+  Index* key;
+  Index* particle;
+  ISPH_HD void operator()(Index i) const {
+    key[i] = grid.cell_of(x[i]);
+    particle[i] = i;
+  }
+};
+
+// exec's device, with launches on the default stream that each wait: the primitives' sorts and scans
+// run there, so the launches between them must too.
+inline Exec waiting(const Exec& exec) { return Exec{exec.device, nullptr, true, exec.parallel_from}; }
+
+// The cell list, built by the launcher's primitives (reductions, a launch, a stable sort by key, a
+// launch of binary searches) on the device given at construction, in its memory: managed memory on the
+// cuda device. Host, debug device and GPU thus run one algorithm; the order is the stable order by
+// cell on each (Cabana's LinkedCellList::build has the same shape).
 template <int D>
 class CellList {
  public:
-  // Buckets x into cells of edge `radius` (at least) over the particles' bounding box; on a periodic
-  // axis, over the period (which must hold at least three cells, and every x must lie inside it).
-  void build(std::span<const Vec<D>> x, Real radius, const Periodicity<D>& period = {}) {
-    x_ = x.data();
+  explicit CellList(const Exec& exec = {})
+      : exec_(waiting(exec)), key_(memory()), sorted_(memory()), cell_start_(memory()) {}
+
+  // Buckets the n positions x (readable where exec runs) into cells of edge `radius` (at least) over
+  // their bounding box; on a periodic axis, over the period (which must hold at least three cells,
+  // and every x must lie inside it). x is kept by pointer until the next build.
+  void build(const Vec<D>* x, Index n, Real radius, const Periodicity<D>& period = {}) {
+    x_ = x;
     radius_ = radius;
     period_ = period;
-    Vec<D> lo, hi;
-    for (int d = 0; d < D; ++d) {
-      lo[d] = x.empty() ? 0 : x[0][d];
-      hi[d] = lo[d];
+    Vec<D> lo = Vec<D>::zero(), hi = Vec<D>::zero();
+    for (int d = 0; d < D && n > 0; ++d) {
+      const PositionComponent<D> component{x, d};
+      lo[d] = parallel_reduce(exec_, n, std::numeric_limits<Real>::infinity(), component, MinOf{});
+      hi[d] = parallel_reduce(exec_, n, -std::numeric_limits<Real>::infinity(), component, MaxOf{});
     }
-    for (const auto& p : x)
-      for (int d = 0; d < D; ++d) {
-        lo[d] = std::min(lo[d], p[d]);
-        hi[d] = std::max(hi[d], p[d]);
-      }
     grid_ = make_cell_grid(lo, hi, radius, period);
-    cell_start_.assign(static_cast<std::size_t>(grid_.cells) + 1, 0);
-    std::vector<Index> cell(x.size());
-    for (std::size_t i = 0; i < x.size(); ++i) {
-      cell[i] = grid_.cell_of(x[i]);
-      ++cell_start_[cell[i] + 1];
-    }
-    inclusive_scan(Exec{}, cell_start_.data() + 1, grid_.cells);
-    sorted_.resize(x.size());
-    std::vector<Index> fill(cell_start_.begin(), cell_start_.end() - 1);
-    for (std::size_t i = 0; i < x.size(); ++i) sorted_[fill[cell[i]]++] = static_cast<Index>(i);
+    resize_for_overwrite(key_, static_cast<std::size_t>(n));
+    resize_for_overwrite(sorted_, static_cast<std::size_t>(n));
+    parallel_for(exec_, n, CellKeys<D>{grid_, x, key_.data(), sorted_.data()});
+    stable_sort_by_key(exec_, key_.data(), sorted_.data(), n, grid_.cells);
+    resize_for_overwrite(cell_start_, static_cast<std::size_t>(grid_.cells) + 1);
+    parallel_for(exec_, grid_.cells + 1, KeyStarts{key_.data(), n, cell_start_.data()});
+  }
+  void build(std::span<const Vec<D>> x, Real radius, const Periodicity<D>& period = {}) {
+    build(x.data(), static_cast<Index>(x.size()), radius, period);
   }
 
   // Particle indices ordered by cell (stable): the permutation that sorts particles by cell.
-  const std::vector<Index>& order() const { return sorted_; }
+  const StateVector<Index>& order() const { return sorted_; }
+  const Exec& exec() const { return exec_; }
 
   CellListView<D> view(const int* group = nullptr, const LevelReach& levels = {}) const {
     return {grid_, cell_start_.data(), sorted_.data(), x_, group, radius_ * radius_, period_, levels};
   }
 
  private:
+  StateAllocator<Index> memory() const { return StateAllocator<Index>(exec_.device == Device::cuda); }
+
+  Exec exec_;
   CellGrid<D> grid_;
   Periodicity<D> period_;
-  std::vector<Index> cell_start_;
-  std::vector<Index> sorted_;
+  StateVector<Index> key_;  // each particle's cell, sorted by the build
+  StateVector<Index> sorted_;
+  StateVector<Index> cell_start_;
   const Vec<D>* x_ = nullptr;
   Real radius_ = 0;
 };
 
-// CSR neighbour list: the neighbours of i are index[offset[i] .. offset[i+1]).
+// CSR neighbour list: the neighbours of i are index[offset[i] .. offset[i+1]), in the memory of the
+// device that built it.
 struct NeighbourList {
-  std::vector<Index> offset;
-  std::vector<Index> index;
+  StateVector<Index> offset;
+  StateVector<Index> index;
   Index pairs() const { return static_cast<Index>(index.size()); }
 };
 
-// The CSR list of all pairs of a built cell list (and in the same group, if given), on the host.
+// offset[0] = 0, written by a launch (the offsets may be device memory).
+struct FirstOffset {
+  Index* offset;
+  ISPH_HD void operator()(Index) const { offset[0] = 0; }
+};
+
+// The CSR list of all pairs of a built cell list (and in the same group, if given): a count, a scan and
+// a fill, launched on exec.
 template <int D>
-NeighbourList neighbour_list(const CellListView<D>& cells, Index n) {
-  NeighbourList list;
-  list.offset.assign(static_cast<std::size_t>(n) + 1, 0);
-  const Exec host{};
-  parallel_for(host, n, CountNeighbours<D>{cells, list.offset.data() + 1});
-  inclusive_scan(host, list.offset.data() + 1, n);
-  list.index.resize(static_cast<std::size_t>(list.offset[n]));
-  parallel_for(host, n, FillNeighbours<D>{cells, list.offset.data(), list.index.data()});
+NeighbourList neighbour_list(const Exec& on, const CellListView<D>& cells, Index n) {
+  const Exec exec = waiting(on);
+  const StateAllocator<Index> memory(exec.device == Device::cuda);
+  NeighbourList list{StateVector<Index>(memory), StateVector<Index>(memory)};
+  resize_for_overwrite(list.offset, static_cast<std::size_t>(n) + 1);
+  parallel_for(exec, 1, FirstOffset{list.offset.data()});
+  parallel_for(exec, n, CountNeighbours<D>{cells, list.offset.data() + 1});
+  inclusive_scan(exec, list.offset.data() + 1, n);
+  resize_for_overwrite(list.index, static_cast<std::size_t>(read_back(exec, list.offset.data() + n)));
+  parallel_for(exec, n, FillNeighbours<D>{cells, list.offset.data(), list.index.data()});
   return list;
 }
 template <int D>
 NeighbourList neighbour_list(const CellList<D>& cells, Index n, const int* group = nullptr,
                              const LevelReach& levels = {}) {
-  return neighbour_list(cells.view(group, levels), n);
+  return neighbour_list(cells.exec(), cells.view(group, levels), n);
 }
 
 // Builds the CSR list of all pairs closer than `radius` (and in the same group, if given; minimum

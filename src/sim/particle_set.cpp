@@ -76,12 +76,12 @@ ParticleSet<D>::ParticleSet(FluidSetup<D>& s)
 
 template <int D>
 const Index* ParticleSet<D>::neighbour_offset() const {
-  return exec_.device == Device::cuda ? device_neighbours_.offset.data() : neighbours_.offset.data();
+  return neighbours_.offset.data();
 }
 
 template <int D>
 FluidView<D> ParticleSet<D>::view() const {
-  const Index* index = exec_.device == Device::cuda ? device_neighbours_.index.data() : neighbours_.index.data();
+  const Index* index = neighbours_.index.data();
   const OperatorView<D> op{size(), position.data(), volume.data(), neighbour_offset(),
                            index,  kernels_,        period_,       kernels_.levels > 1 ? level.data() : nullptr};
   return {op, kind.data(), wall_velocity.data(), wall_acceleration.data(), wall_normal.data(), wall_depth.data(), dx_};
@@ -95,19 +95,10 @@ void ParticleSet<D>::find_neighbours() {
 template <int D>
 void ParticleSet<D>::build_neighbours(bool sort) {
   const Real radius = kernels_.largest_support();
-  if (exec_.device == Device::cuda) {
-    device_cells_.build(position.data(), size(), radius, period_);
-    if (sort) {
-      reorder(device_cells_.order().data(), size());
-      device_cells_.build(position.data(), size(), radius, period_);
-    }
-    device_neighbours_ = device_neighbour_list(device_cells_, size(), nullptr, kernels_.reach(level.data()));
-    return;
-  }
-  cells_.build(position, radius, period_);
+  cells_.build(position.data(), size(), radius, period_);
   if (sort) {
     reorder(cells_.order().data(), size());
-    cells_.build(position, radius, period_);
+    cells_.build(position.data(), size(), radius, period_);
   }
   neighbours_ = neighbour_list(cells_, size(), nullptr, kernels_.reach(level.data()));
 }

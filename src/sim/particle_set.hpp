@@ -19,7 +19,6 @@
 #include <vector>
 
 #include "core/device_memory.hpp"
-#include "core/device_neighbour_search.hpp"
 #include "core/neighbour_search.hpp"
 #include "core/rigid_motion.hpp"
 #include "io/case.hpp"
@@ -174,8 +173,7 @@ class ParticleSet {
   // last search, kinds, boundary data).
   FluidView<D> view() const;
   // Cell list and CSR neighbour list at the current positions; every kSortInterval calls the particles
-  // are first re-sorted by cell (with the attached arrays). On the cuda device both are built there
-  // (DeviceCellList).
+  // are first re-sorted by cell (with the attached arrays). Both are built on the device in use.
   void find_neighbours();
   // Start of the CSR neighbour list (n + 1 offsets) on the device in use.
   const Index* neighbour_offset() const;
@@ -270,10 +268,8 @@ class ParticleSet {
   StateVector<unsigned char> permute_scratch_;
   StateVector<Real> power_density_;       // per-particle work array of record_viscous_wall_power
   mutable StateVector<Real> block_sums_;  // ordered_sum's scratch
-  CellList<D> cells_;                     // cpu
+  CellList<D> cells_{exec_};
   NeighbourList neighbours_;
-  DeviceCellList<D> device_cells_;  // cuda
-  DeviceNeighbourList device_neighbours_;
 
   Index fluid_count_ = 0, wall_count_ = 0;
   long long neighbour_searches_ = 0, order_version_ = 0;

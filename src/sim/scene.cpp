@@ -236,7 +236,7 @@ void sort_structure(Scene<D>& scene, TlsphSetup<D>& s, FluidSetup<D>& fluid) {
   const Index n = static_cast<Index>(s.X.size());
   CellList<D> cells;
   cells.build(s.X, s.kernels.largest_support());
-  const std::vector<Index>& order = cells.order();
+  const auto& order = cells.order();
   auto permute = [&](auto& v) {
     auto copy = v;
     for (Index k = 0; k < n; ++k) v[k] = copy[order[k]];
@@ -250,7 +250,7 @@ void sort_structure(Scene<D>& scene, TlsphSetup<D>& s, FluidSetup<D>& fluid) {
   permute(s.fixed);
   permute(s.motion);
   for (auto& l : s.loads) permute(l.acc);
-  scene.structure_id = order;
+  scene.structure_id.assign(order.begin(), order.end());
   scene.structure_body = s.body;
   std::vector<Index> sorted_slot(n);  // creation index -> index after sorting
   for (Index k = 0; k < n; ++k) sorted_slot[order[k]] = k;

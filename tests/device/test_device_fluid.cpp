@@ -127,7 +127,7 @@ TEST(DeviceFluid, PpeAssemblyStagesMatchTheHost) {
     DeviceArray<Vec<2>> dx_(x), du(u), dwall_velocity(wall_velocity), dwall_acceleration(wall_acceleration),
         dwall_normal(wall_normal), dnormal(normal);
     DeviceArray<Real> dvolume(volume), dalpha(alpha), ddepth(depth);
-    DeviceArray<Index> doffset(nl.offset), dindex(nl.index);
+    DeviceArray<Index> doffset({nl.offset.begin(), nl.offset.end()}), dindex({nl.index.begin(), nl.index.end()});
     DeviceArray<FluidKind> dkind(kind);
     DeviceArray<SurfaceClass> dcls(cls);
     auto dL = poisoned<Mat<2>>(n);
