@@ -45,10 +45,12 @@ class EnergyBooks {
   // release (releasable potential, kinetic and strain energy).
   EnergyBooks(Real initial_total, Real initial_energy)
       : initial_total_(initial_total), initial_energy_(initial_energy) {}
-  // A restarted run's books, continued from its snapshot's attributes.
-  static EnergyBooks continued(Real initial_total, Real initial_energy, Real largest_work) {
+  // A restarted run's books, continued from its snapshot's attributes (the peak so far included, so
+  // that summary.json reports the whole run's).
+  static EnergyBooks continued(Real initial_total, Real initial_energy, Real largest_work, Real peak_created) {
     EnergyBooks books(initial_total, initial_energy);
     books.largest_work_ = largest_work;
+    books.peak_created_ = peak_created;
     return books;
   }
 

@@ -106,7 +106,8 @@ SnapshotAttributes RunFrame::books_attributes() const {
   if (!books_open_) return {};
   return {{"energy_books_initial_total", books_.initial_total()},
           {"energy_books_initial_energy", books_.initial_energy()},
-          {"energy_books_largest_work", books_.largest_work()}};
+          {"energy_books_largest_work", books_.largest_work()},
+          {"energy_books_peak_created_fraction", books_.peak_created_fraction()}};
 }
 
 void RunFrame::continue_books(const SnapshotData& state) {
@@ -114,7 +115,8 @@ void RunFrame::continue_books(const SnapshotData& state) {
   const auto total = a.find("energy_books_initial_total"), energy0 = a.find("energy_books_initial_energy"),
              work = a.find("energy_books_largest_work");
   if (total == a.end() || energy0 == a.end() || work == a.end()) return;
-  books_ = EnergyBooks::continued(total->second, energy0->second, work->second);
+  const auto peak = a.find("energy_books_peak_created_fraction");  // absent in snapshots before 2026-12-06
+  books_ = EnergyBooks::continued(total->second, energy0->second, work->second, peak == a.end() ? 0 : peak->second);
   books_open_ = true;
 }
 

@@ -123,6 +123,9 @@ TEST(RunControl, WeaklyCompressibleRunContinuesBitForBit) {
   EXPECT_EQ(isph::read_snapshot(isph::newest_snapshot(continued.string())).time, 0.1);
   EXPECT_EQ(read_file(full / "probes.csv"), read_file(continued / "probes.csv"));
   EXPECT_LT(read_csv(full / "probes.csv").at("left.fx").back(), -1.0);  // the water still pushes on it
+  // The energy books carry on, the largest fraction created before the snapshot included.
+  EXPECT_EQ(json_number(read_file(full / "summary.json"), "peak_created_fraction"),
+            json_number(read_file(continued / "summary.json"), "peak_created_fraction"));
 }
 
 namespace {

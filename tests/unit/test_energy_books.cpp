@@ -59,9 +59,11 @@ TEST(EnergyBooks, TheWorkOfMovingBoundariesWidensTheScale) {
   EXPECT_NEAR(books.scale(), 500.0, 1e-12);
   EXPECT_FALSE(books.post(2.0, 120.0, 10.0));  // the largest work so far is kept
   EXPECT_TRUE(books.post(3.0, 130.0, 10.0));
-  // A restart continues the books with the work seen before it.
-  EnergyBooks continued = EnergyBooks::continued(0.0, 100.0, 400.0);
-  EXPECT_FALSE(continued.post(2.0, 120.0, 0.0));
+  // A restart continues the books with the work seen before it, and the largest fraction created so
+  // far (0.24 = 120 J of 500 J), which a later, lower total does not lower.
+  EnergyBooks continued = EnergyBooks::continued(0.0, 100.0, 400.0, 0.24);
+  EXPECT_FALSE(continued.post(2.0, 20.0, 0.0));
+  EXPECT_NEAR(continued.peak_created_fraction(), 0.24, 1e-12);
   EXPECT_TRUE(continued.post(3.0, 130.0, 0.0));
 }
 
