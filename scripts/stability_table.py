@@ -2,7 +2,8 @@
 """The stability table: every shipped case at its shipped Courant number and at larger multiples of it.
 
   /usr/bin/python3 scripts/stability_table.py [--cases NAME,...] [--factors 1,1.5,2] [--budget 150]
-        [--threads 1] [--out runs/stability_table] [--isph build/isph] [--report-only]
+        [--budgets NAME=SECONDS,...] [--threads 1] [--out runs/stability_table] [--isph build/isph]
+        [--report-only]
 
 The Courant number scaled is the fluid's (fluid.courant for ISPH, fluid.wcsph.acoustic_courant for
 WCSPH) where the case has a fluid, else the structure's (structure.courant); the shipped value is read
@@ -14,8 +15,7 @@ stability_run.json (the command) match is not run again, so the table can be res
 
 Columns: status (completed, diverged, interrupted by the budget), the steps taken (fluid steps, or
 structure steps without a fluid: the limit that binds may be another than the Courant number scaled,
-e.g. viscosity's), the
-simulated time reached out of end_time, the largest fraction of the case's energy scale created (the energy books of
+e.g. viscosity's), the simulated time reached out of end_time, the largest fraction of the case's energy scale created (the energy books of
 docs/RELIABILITY.md, summary.json energy_books.peak_created_fraction), the wall time and, for a run
 that stopped, the solver's message. Writes <out>/table.csv and <out>/table.md (docs/STUDIES.md,
 "Stability table").
