@@ -128,110 +128,122 @@ FluidStepReport IsphSolver<D>::step(Real dt, PhaseTimer& timer) {
 
 template <int D>
 void IsphSolver<D>::begin_step(Real dt, PhaseTimer& timer) {
-  const Index n = particles_.size();
-  const bool sps = settings_.turbulence == Turbulence::sps;
-
   if (particles_.has_moving_walls()) timer.time("wall_motion", [&] { particles_.prescribe_walls(dt); });
-
-  // Eq. 11: r* = r^n + dt u^n (walls move with their prescribed velocity). The neighbours are found
-  // at r*, where the particles may be re-sorted; r^n is then recovered as r* - dt u^n.
-  timer.time("neighbours", [&] {
-    parallel_for(exec_, n,
-                 Drift<D>{.kind = particles_.kind.data(),
-                          .u = particles_.velocity.data(),
-                          .wall_velocity = particles_.wall_velocity.data(),
-                          .step = dt,
-                          .wrap = true,
-                          .period = particles_.period(),
-                          .from = particles_.position.data(),
-                          .to = particles_.position.data()});
-    particles_.find_neighbours();
-    parallel_for(exec_, n,
-                 Drift<D>{.kind = particles_.kind.data(),
-                          .u = particles_.velocity.data(),
-                          .wall_velocity = particles_.wall_velocity.data(),
-                          .step = -dt,
-                          .wrap = false,
-                          .period = particles_.period(),
-                          .from = particles_.position.data(),
-                          .to = x_old_.data()});
-  });
+  timer.time("neighbours", [&] { drift_and_find_neighbours(dt); });
   const FluidView<D> v = particles_.view();
   FluidView<D> pv = v;  // the pressure stages' view: dry walls have no volume (PressureVolume)
   pv.op.volume = pressure_volume_.data();
-
-  // Eqs. 10, 12-13: intermediate velocity at r* from gravity and viscosity.
-  timer.time("predictor", [&] {
-    if (kernel_correction_) parallel_for(exec_, n, LaplacianRenormalisation<D>{v.op, L_.data(), Bhat_.data()});
-    parallel_for(exec_, n,
-                 VelocityGradient<D>{.v = v,
-                                     .L = L_.data(),
-                                     .u = particles_.velocity.data(),
-                                     .no_slip = true,
-                                     .smagorinsky = sps ? settings_.smagorinsky : 0.0,
-                                     .grad = grad_u_.data(),
-                                     .eddy_viscosity = eddy_viscosity_.data()});
-    const ViscousAcceleration<D> viscous{
-        v,         Bhat_.data(), grad_u_.data(), particles_.velocity.data(), sps ? eddy_viscosity_.data() : nullptr,
-        viscosity_};
-    parallel_for(exec_, n, VelocityPredictor<D>{viscous, gravity_, dt, u_star_.data()});
-    if (particles_.has_moving_walls()) particles_.record_viscous_wall_power(viscous);
-  });
-
-  // Free surface (Fig. 2) and Skillen's coefficient (Eq. 17).
+  timer.time("predictor", [&] { predict_velocity(v, dt); });
   Index pinned = -1;
-  timer.time("free_surface", [&] {
-    parallel_for(exec_, n,
-                 SurfaceDetection<D>{.v = v,
-                                     .thresholds = thresholds_,
-                                     .detect = settings_.free_surface,
-                                     .div_r = div_r_.data(),
-                                     .cls = detected_.data(),
-                                     .alpha = alpha_.data()});
-    parallel_for(exec_, n, NearSurfaceDetection<D>{v, detected_.data(), cls_.data()});
-    // p is defined up to a constant without a Dirichlet row: fix it at the fluid particle of lowest id.
-    if (parallel_reduce(exec_, n, Index{0}, DirichletRow{particles_.kind.data(), alpha_.data()}, IntegerSum{}) == 0)
-      pinned = lowest_id_particle(exec_, n, IsFluid{particles_.kind.data()}, particles_.id.data());
-    parallel_for(exec_, n, PressureVolume<D>{v, alpha_.data(), pressure_volume_.data()});
-    if (kernel_correction_) parallel_for(exec_, n, GradientCorrection<D>{pv.op, L_.data()});
-    parallel_for(exec_, n,
-                 SurfaceNormal<D>{.v = pv,
-                                  .L = L_.data(),
-                                  .cls = cls_.data(),
-                                  .alpha = alpha_.data(),
-                                  .surface_normal = surface_normal_.data()});
-  });
+  timer.time("free_surface", [&] { pinned = detect_free_surface(v, pv); });
+  timer.time("ppe_assembly", [&] { assemble_ppe(pv, dt, pinned); });
+}
 
-  // Eqs. 14-16: assemble the PPE as CSR and solve it.
-  timer.time("ppe_assembly", [&] {
-    parallel_for(exec_, n, CorrectedDivergence<D>{pv.op, L_.data(), u_star_.data(), div_u_star_.data()});
-    full_matrix_.rows = n;
-    full_matrix_.row_offset.resize(n + 1);
-    parallel_for(exec_, n + 1, PpeRowOffsets{particles_.neighbour_offset(), full_matrix_.row_offset.data()});
-    resize_for_overwrite(full_matrix_.col, full_matrix_.row_offset[n]);
-    resize_for_overwrite(full_matrix_.val, full_matrix_.row_offset[n]);
-    parallel_for(exec_, n,
-                 PpeRowFill<D>{.v = pv,
-                               .L = L_.data(),
-                               .alpha = alpha_.data(),
-                               .div_u_star = div_u_star_.data(),
-                               .density = density_,
-                               .dt = dt,
-                               .gravity = gravity_,
-                               .cls = cls_.data(),
-                               .surface_normal = surface_normal_.data(),
-                               .extrapolate_surface = extrapolate_surface_,
-                               .pinned = pinned,
-                               .col = full_matrix_.col.data(),
-                               .val = full_matrix_.val.data(),
-                               .rhs = rhs_.data(),
-                               .wall_moment = wall_moment_.data(),
-                               .structure_index = particles_.structure_index.data(),
-                               .structure_inverse_density = structure_inverse_density_,
-                               .added_mass = added_mass_});
-    compress_matrix();
-    solves_since_assembly_ = 0;
-  });
+// Eq. 11: r* = r^n + dt u^n (walls move with their prescribed velocity). The neighbours are found at r*,
+// where the particles may be re-sorted; r^n is then recovered as r* - dt u^n.
+template <int D>
+void IsphSolver<D>::drift_and_find_neighbours(Real dt) {
+  const Index n = particles_.size();
+  parallel_for(exec_, n,
+               Drift<D>{.kind = particles_.kind.data(),
+                        .u = particles_.velocity.data(),
+                        .wall_velocity = particles_.wall_velocity.data(),
+                        .step = dt,
+                        .wrap = true,
+                        .period = particles_.period(),
+                        .from = particles_.position.data(),
+                        .to = particles_.position.data()});
+  particles_.find_neighbours();
+  parallel_for(exec_, n,
+               Drift<D>{.kind = particles_.kind.data(),
+                        .u = particles_.velocity.data(),
+                        .wall_velocity = particles_.wall_velocity.data(),
+                        .step = -dt,
+                        .wrap = false,
+                        .period = particles_.period(),
+                        .from = particles_.position.data(),
+                        .to = x_old_.data()});
+}
+
+// Eqs. 10, 12-13: intermediate velocity at r* from gravity and viscosity.
+template <int D>
+void IsphSolver<D>::predict_velocity(const FluidView<D>& v, Real dt) {
+  const Index n = particles_.size();
+  const bool sps = settings_.turbulence == Turbulence::sps;
+  if (kernel_correction_) parallel_for(exec_, n, LaplacianRenormalisation<D>{v.op, L_.data(), Bhat_.data()});
+  parallel_for(exec_, n,
+               VelocityGradient<D>{.v = v,
+                                   .L = L_.data(),
+                                   .u = particles_.velocity.data(),
+                                   .no_slip = true,
+                                   .smagorinsky = sps ? settings_.smagorinsky : 0.0,
+                                   .grad = grad_u_.data(),
+                                   .eddy_viscosity = eddy_viscosity_.data()});
+  const ViscousAcceleration<D> viscous{
+      v, Bhat_.data(), grad_u_.data(), particles_.velocity.data(), sps ? eddy_viscosity_.data() : nullptr, viscosity_};
+  parallel_for(exec_, n, VelocityPredictor<D>{viscous, gravity_, dt, u_star_.data()});
+  if (particles_.has_moving_walls()) particles_.record_viscous_wall_power(viscous);
+}
+
+// Free surface (Fig. 2) and Skillen's coefficient (Eq. 17); returns the particle whose pressure is
+// pinned where no row carries the surface condition (-1 when one does).
+template <int D>
+Index IsphSolver<D>::detect_free_surface(const FluidView<D>& v, const FluidView<D>& pv) {
+  const Index n = particles_.size();
+  Index pinned = -1;
+  parallel_for(exec_, n,
+               SurfaceDetection<D>{.v = v,
+                                   .thresholds = thresholds_,
+                                   .detect = settings_.free_surface,
+                                   .div_r = div_r_.data(),
+                                   .cls = detected_.data(),
+                                   .alpha = alpha_.data()});
+  parallel_for(exec_, n, NearSurfaceDetection<D>{v, detected_.data(), cls_.data()});
+  // p is defined up to a constant without a Dirichlet row: fix it at the fluid particle of lowest id.
+  if (parallel_reduce(exec_, n, Index{0}, DirichletRow{particles_.kind.data(), alpha_.data()}, IntegerSum{}) == 0)
+    pinned = lowest_id_particle(exec_, n, IsFluid{particles_.kind.data()}, particles_.id.data());
+  parallel_for(exec_, n, PressureVolume<D>{v, alpha_.data(), pressure_volume_.data()});
+  if (kernel_correction_) parallel_for(exec_, n, GradientCorrection<D>{pv.op, L_.data()});
+  parallel_for(exec_, n,
+               SurfaceNormal<D>{.v = pv,
+                                .L = L_.data(),
+                                .cls = cls_.data(),
+                                .alpha = alpha_.data(),
+                                .surface_normal = surface_normal_.data()});
+  return pinned;
+}
+
+// Eqs. 14-16: the PPE assembled as CSR.
+template <int D>
+void IsphSolver<D>::assemble_ppe(const FluidView<D>& pv, Real dt, Index pinned) {
+  const Index n = particles_.size();
+  parallel_for(exec_, n, CorrectedDivergence<D>{pv.op, L_.data(), u_star_.data(), div_u_star_.data()});
+  full_matrix_.rows = n;
+  full_matrix_.row_offset.resize(n + 1);
+  parallel_for(exec_, n + 1, PpeRowOffsets{particles_.neighbour_offset(), full_matrix_.row_offset.data()});
+  resize_for_overwrite(full_matrix_.col, full_matrix_.row_offset[n]);
+  resize_for_overwrite(full_matrix_.val, full_matrix_.row_offset[n]);
+  parallel_for(exec_, n,
+               PpeRowFill<D>{.v = pv,
+                             .L = L_.data(),
+                             .alpha = alpha_.data(),
+                             .div_u_star = div_u_star_.data(),
+                             .density = density_,
+                             .dt = dt,
+                             .gravity = gravity_,
+                             .cls = cls_.data(),
+                             .surface_normal = surface_normal_.data(),
+                             .extrapolate_surface = extrapolate_surface_,
+                             .pinned = pinned,
+                             .col = full_matrix_.col.data(),
+                             .val = full_matrix_.val.data(),
+                             .rhs = rhs_.data(),
+                             .wall_moment = wall_moment_.data(),
+                             .structure_index = particles_.structure_index.data(),
+                             .structure_inverse_density = structure_inverse_density_,
+                             .added_mass = added_mass_});
+  compress_matrix();
+  solves_since_assembly_ = 0;
 }
 
 template <int D>
@@ -302,85 +314,11 @@ void IsphSolver<D>::solve_pressure(FluidStepReport& report, PhaseTimer& timer, d
 
 template <int D>
 void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
-  const Index n = particles_.size();
   const FluidView<D> v = particles_.view();
   FluidView<D> pv = v;
   pv.op.volume = pressure_volume_.data();
-
-  // Eqs. 18-19: projection and position update.
-  timer.time("projection", [&] {
-    parallel_for(exec_, n, CorrectedGradient<D>{pv.op, L_.data(), particles_.pressure.data(), grad_p_.data()});
-    parallel_for(exec_, n,
-                 Project<D>{.v = v,
-                            .grad_p = grad_p_.data(),
-                            .u_star = u_star_.data(),
-                            .density = density_,
-                            .dt = dt,
-                            .u_new = u_new_.data()});
-    if (settings_.collision.distance > 0) {
-      parallel_for(exec_, n,
-                   ParticleCollision<D>{.v = v,
-                                        .u = u_new_.data(),
-                                        .distance = settings_.collision.distance * v.dx,
-                                        .restitution = settings_.collision.restitution,
-                                        .out = u_collided_.data()});
-      u_new_.swap(u_collided_);
-    }
-    parallel_for(exec_, n,
-                 Advance<D>{.kind = particles_.kind.data(),
-                            .wall_velocity = particles_.wall_velocity.data(),
-                            .u_new = u_new_.data(),
-                            .x_old = x_old_.data(),
-                            .dt = dt,
-                            .period = particles_.period(),
-                            .u = particles_.velocity.data(),
-                            .x = particles_.position.data()});
-  });
-
-  // Eqs. 20-26, 31-32: shifting at r^{n+1}, with the neighbour list, classes and surface normals of r*.
-  if (shifting_ != ShiftingType::none)
-    timer.time("shifting", [&] {
-      if (kernel_correction_) parallel_for(exec_, n, GradientCorrection<D>{pv.op, L_.data()});
-      const Real zeta = particles_.max_speed() * dt;
-      parallel_for(exec_, n,
-                   ShiftDisplacement<D>{.v = pv,
-                                        .volume = particles_.volume.data(),
-                                        .cls = cls_.data(),
-                                        .surface_normal = surface_normal_.data(),
-                                        .type = shifting_,
-                                        .coefficient = settings_.shifting.coefficient,
-                                        .zeta = zeta,
-                                        .max_shift = settings_.shifting.max_fraction * kernel_.h,
-                                        .fsi_layer = fsi_shifting_ && particles_.has_structure(),
-                                        .fsi_law = fsi_shifting_law_,
-                                        .velocity = particles_.velocity.data(),
-                                        .dt = dt,
-                                        .shift = shift_.data()});
-      if (settings_.shifting.taylor_correction) {
-        parallel_for(exec_, n,
-                     VelocityGradient<D>{.v = pv,
-                                         .L = L_.data(),
-                                         .u = particles_.velocity.data(),
-                                         .no_slip = false,
-                                         .smagorinsky = 0.0,
-                                         .grad = grad_u_.data(),
-                                         .eddy_viscosity = nullptr});
-        parallel_for(exec_, n, CorrectedGradient<D>{pv.op, L_.data(), particles_.pressure.data(), grad_p_.data()});
-        parallel_for(exec_, n,
-                     TaylorCorrection<D>{.v = pv,
-                                         .cls = cls_.data(),
-                                         .shift = shift_.data(),
-                                         .grad_u = grad_u_.data(),
-                                         .grad_p = grad_p_.data(),
-                                         .u = particles_.velocity.data(),
-                                         .p = particles_.pressure.data(),
-                                         .u_out = u_new_.data(),
-                                         .p_out = p_trial_.data()});
-        particles_.velocity.swap(u_new_);
-        particles_.pressure.swap(p_trial_);
-      }
-      parallel_for(exec_, n, ApplyShift<D>{shift_.data(), particles_.period(), particles_.position.data()});
-    });
+  timer.time("projection", [&] { project_and_advance(v, pv, dt); });
+  if (shifting_ != ShiftingType::none) timer.time("shifting", [&] { shift_particles(pv, dt); });
   if (particles_.has_moving_walls())
     timer.time("wall_motion", [&] {
       boundary_pressure_force(true, FluidKind::wall);
@@ -389,6 +327,84 @@ void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
   else if (wall_force_)
     timer.time("wall_force", [&] { boundary_pressure_force(true, FluidKind::wall); });
   particles_.time += dt;
+}
+
+// Eqs. 18-19: projection and position update.
+template <int D>
+void IsphSolver<D>::project_and_advance(const FluidView<D>& v, const FluidView<D>& pv, Real dt) {
+  const Index n = particles_.size();
+  parallel_for(exec_, n, CorrectedGradient<D>{pv.op, L_.data(), particles_.pressure.data(), grad_p_.data()});
+  parallel_for(exec_, n,
+               Project<D>{.v = v,
+                          .grad_p = grad_p_.data(),
+                          .u_star = u_star_.data(),
+                          .density = density_,
+                          .dt = dt,
+                          .u_new = u_new_.data()});
+  if (settings_.collision.distance > 0) {
+    parallel_for(exec_, n,
+                 ParticleCollision<D>{.v = v,
+                                      .u = u_new_.data(),
+                                      .distance = settings_.collision.distance * v.dx,
+                                      .restitution = settings_.collision.restitution,
+                                      .out = u_collided_.data()});
+    u_new_.swap(u_collided_);
+  }
+  parallel_for(exec_, n,
+               Advance<D>{.kind = particles_.kind.data(),
+                          .wall_velocity = particles_.wall_velocity.data(),
+                          .u_new = u_new_.data(),
+                          .x_old = x_old_.data(),
+                          .dt = dt,
+                          .period = particles_.period(),
+                          .u = particles_.velocity.data(),
+                          .x = particles_.position.data()});
+}
+
+// Eqs. 20-26, 31-32: shifting at r^{n+1}, with the neighbour list, classes and surface normals of r*.
+template <int D>
+void IsphSolver<D>::shift_particles(const FluidView<D>& pv, Real dt) {
+  const Index n = particles_.size();
+  if (kernel_correction_) parallel_for(exec_, n, GradientCorrection<D>{pv.op, L_.data()});
+  const Real zeta = particles_.max_speed() * dt;
+  parallel_for(exec_, n,
+               ShiftDisplacement<D>{.v = pv,
+                                    .volume = particles_.volume.data(),
+                                    .cls = cls_.data(),
+                                    .surface_normal = surface_normal_.data(),
+                                    .type = shifting_,
+                                    .coefficient = settings_.shifting.coefficient,
+                                    .zeta = zeta,
+                                    .max_shift = settings_.shifting.max_fraction * kernel_.h,
+                                    .fsi_layer = fsi_shifting_ && particles_.has_structure(),
+                                    .fsi_law = fsi_shifting_law_,
+                                    .velocity = particles_.velocity.data(),
+                                    .dt = dt,
+                                    .shift = shift_.data()});
+  if (settings_.shifting.taylor_correction) {
+    parallel_for(exec_, n,
+                 VelocityGradient<D>{.v = pv,
+                                     .L = L_.data(),
+                                     .u = particles_.velocity.data(),
+                                     .no_slip = false,
+                                     .smagorinsky = 0.0,
+                                     .grad = grad_u_.data(),
+                                     .eddy_viscosity = nullptr});
+    parallel_for(exec_, n, CorrectedGradient<D>{pv.op, L_.data(), particles_.pressure.data(), grad_p_.data()});
+    parallel_for(exec_, n,
+                 TaylorCorrection<D>{.v = pv,
+                                     .cls = cls_.data(),
+                                     .shift = shift_.data(),
+                                     .grad_u = grad_u_.data(),
+                                     .grad_p = grad_p_.data(),
+                                     .u = particles_.velocity.data(),
+                                     .p = particles_.pressure.data(),
+                                     .u_out = u_new_.data(),
+                                     .p_out = p_trial_.data()});
+    particles_.velocity.swap(u_new_);
+    particles_.pressure.swap(p_trial_);
+  }
+  parallel_for(exec_, n, ApplyShift<D>{shift_.data(), particles_.period(), particles_.position.data()});
 }
 
 template <int D>

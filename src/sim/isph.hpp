@@ -73,6 +73,13 @@ class IsphSolver final : public FluidModel<D> {
   Vec<D> structure_pressure_force(std::span<Vec<D>> force_density);
 
  private:
+  // The stages of begin_step and end_step (docs: the equations at each definition).
+  void drift_and_find_neighbours(Real dt);
+  void predict_velocity(const FluidView<D>& v, Real dt);
+  Index detect_free_surface(const FluidView<D>& v, const FluidView<D>& pv);
+  void assemble_ppe(const FluidView<D>& pv, Real dt, Index pinned);
+  void project_and_advance(const FluidView<D>& v, const FluidView<D>& pv, Real dt);
+  void shift_particles(const FluidView<D>& pv, Real dt);
   void compress_matrix();
   MatrixReuse matrix_reuse() const;
   // p_trial_ = p_, the solver's start (the last pressure), copied where the particles are.
