@@ -8,7 +8,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SECONDS=0
-cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DISPH_CUDA=OFF -DISPH_SANITIZE=ON -DISPH_WERROR=ON
+# -O1 -g1: AddressSanitizer's advised optimisation, and line tables enough for its stack traces; both
+# compile faster than RelWithDebInfo's -O2 -g.
+cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
+  -DISPH_CUDA=OFF -DISPH_SANITIZE=ON -DISPH_WERROR=ON
 harness=build/isph_regression_tests
 targets=(--target isph --target isph_unit_tests --target isph_device_tests)
 [ -x "$harness" ] || { harness=build-asan/isph_regression_tests; targets+=(--target isph_regression_tests); }
