@@ -17,8 +17,8 @@ Columns: status (completed, diverged, interrupted by the budget), the steps take
 structure steps without a fluid: the limit that binds may be another than the Courant number scaled,
 e.g. viscosity's), the simulated time reached out of end_time, the largest fraction of the case's energy scale created (the energy books of
 docs/RELIABILITY.md, summary.json energy_books.peak_created_fraction), the wall time and, for a run
-that stopped, the solver's message. Writes <out>/table.csv and <out>/table.md (docs/STUDIES.md,
-"Stability table").
+that stopped, the solver's message. Writes <out>/table.csv, <out>/table.md and the chart
+<out>/table.png (docs/STUDIES.md, "Stability table").
 """
 import argparse
 import csv
@@ -125,6 +125,47 @@ def markdown(rows, factors):
     return "\n".join(lines + [""] + notes) + "\n"
 
 
+def figure(rows, factors, path):
+    """The table as a chart: one row per case, one column per factor, coloured by the outcome (green
+    completed, amber stopped by the budget, shaded by how far it got, red failed) and labelled with the
+    energy created."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.patches import Patch
+
+    cases = sorted({r["case"] for r in rows})
+    by_point = {(r["case"], r["factor"]): r for r in rows}
+    fig, ax = plt.subplots(figsize=(2.2 + 1.6 * len(factors), 0.36 * len(cases) + 1.2))
+    colour = {"completed": (0.30, 0.69, 0.31), "interrupted": (1.0, 0.70, 0.20)}
+    for y, case in enumerate(cases):
+        for x, f in enumerate(factors):
+            r = by_point.get((case, f))
+            if r is None:
+                continue
+            c = colour.get(r["status"], (0.84, 0.19, 0.15))
+            reached = min(1.0, r["simulated_time"] / r["end_time"])
+            alpha = 1.0 if r["status"] != "interrupted" else 0.25 + 0.75 * reached
+            ax.add_patch(plt.Rectangle((x, y), 0.95, 0.9, color=c, alpha=alpha))
+            label = f"{r['created']:.2g}" if r["status"] == "completed" else (
+                f"{100 * reached:.0f} %" if r["status"] == "interrupted" else r["status"])
+            ax.text(x + 0.47, y + 0.45, label, ha="center", va="center", fontsize=7)
+    ax.set_xlim(0, len(factors))
+    ax.set_ylim(0, len(cases))
+    ax.set_xticks([x + 0.47 for x in range(len(factors))], [f"{f:g} x shipped" for f in factors])
+    ax.set_yticks([y + 0.45 for y in range(len(cases))], cases, fontsize=8)
+    ax.invert_yaxis()
+    ax.set_title("Each shipped case at multiples of its Courant number\n(label: energy created / scale; "
+                 "or share of the run done in the budget)", fontsize=9)
+    ax.legend(handles=[Patch(color=colour["completed"], label="completed"),
+                       Patch(color=colour["interrupted"], label="stopped by the wall budget"),
+                       Patch(color=(0.84, 0.19, 0.15), label="diverged")],
+              loc="upper center", bbox_to_anchor=(0.5, -0.04), ncol=3, fontsize=7, frameon=False)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--cases", help="comma-separated case names (default: every cases/*.toml)")
@@ -178,6 +219,8 @@ def main():
     text = markdown(rows, shown)
     with open(os.path.join(args.out, "table.md"), "w") as f:
         f.write(text)
+    if rows:
+        figure(rows, shown, os.path.join(args.out, "table.png"))
     print(text)
 
 
