@@ -252,19 +252,25 @@ struct FirstOffset {
   ISPH_HD void operator()(Index) const { offset[0] = 0; }
 };
 
-// The CSR list of all pairs of a built cell list (and in the same group, if given): a count, a scan and
-// a fill, launched on exec.
+// Rebuilds `list` as the CSR list of all pairs of a built cell list (and in the same group, if given): a
+// count, a scan and a fill, launched on exec, into the list's own memory (reused while it is large
+// enough: no allocation per step).
 template <int D>
-NeighbourList neighbour_list(const Exec& on, const CellListView<D>& cells, Index n) {
+void fill_neighbour_list(const Exec& on, const CellListView<D>& cells, Index n, NeighbourList& list) {
   const Exec exec = waiting(on);
-  const StateAllocator<Index> memory(exec.device == Device::cuda);
-  NeighbourList list{StateVector<Index>(memory), StateVector<Index>(memory)};
   resize_for_overwrite(list.offset, static_cast<std::size_t>(n) + 1);
   parallel_for(exec, 1, FirstOffset{list.offset.data()});
   parallel_for(exec, n, CountNeighbours<D>{cells, list.offset.data() + 1});
   inclusive_scan(exec, list.offset.data() + 1, n);
   resize_for_overwrite(list.index, static_cast<std::size_t>(read_back(exec, list.offset.data() + n)));
   parallel_for(exec, n, FillNeighbours<D>{cells, list.offset.data(), list.index.data()});
+}
+// The same into a new list in the memory of exec's device.
+template <int D>
+NeighbourList neighbour_list(const Exec& exec, const CellListView<D>& cells, Index n) {
+  const StateAllocator<Index> memory(exec.device == Device::cuda);
+  NeighbourList list{StateVector<Index>(memory), StateVector<Index>(memory)};
+  fill_neighbour_list(exec, cells, n, list);
   return list;
 }
 template <int D>

@@ -100,7 +100,7 @@ void ParticleSet<D>::build_neighbours(bool sort) {
     reorder(cells_.order().data(), size());
     cells_.build(position.data(), size(), radius, period_);
   }
-  neighbours_ = neighbour_list(cells_, size(), nullptr, kernels_.reach(level.data()));
+  fill_neighbour_list(exec_, cells_.view(nullptr, kernels_.reach(level.data())), size(), neighbours_);
 }
 
 template <int D>

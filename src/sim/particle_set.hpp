@@ -269,7 +269,7 @@ class ParticleSet {
   StateVector<Real> power_density_;       // per-particle work array of record_viscous_wall_power
   mutable StateVector<Real> block_sums_;  // ordered_sum's scratch
   CellList<D> cells_{exec_};
-  NeighbourList neighbours_;
+  NeighbourList neighbours_{StateVector<Index>(allocator<Index>()), StateVector<Index>(allocator<Index>())};
 
   Index fluid_count_ = 0, wall_count_ = 0;
   long long neighbour_searches_ = 0, order_version_ = 0;
