@@ -35,6 +35,7 @@ shards() {
 }
 
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+export OMP_NUM_THREADS=1  # the shards fill every core: one OpenMP thread each (scripts/test.sh)
 # g++ 12's runtime takes a dynamic-TLS block that happens to start 16 bytes into a page for a glibc
 # 2.19 block with a header, reads a false range from it, and LeakSanitizer's tracer then faults on it
 # ("Tracer caught signal 11", docs/RELIABILITY.md, Sanitizers). Not intercepting __tls_get_addr avoids
