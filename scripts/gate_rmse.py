@@ -1,10 +1,11 @@
 #!/usr/bin/python3
 """The elastic gate's tip against the reference curves (../shared/reference/antoci_2007_elastic_gate):
 RMSE of u_x and u_y per reference over the run (or up to --until), the peak u_x and its time, and the
-run's wall time. One line per run folder; --csv writes the table as CSV. In a 3D run (the tip's u_z
+run's wall time. One line per run folder; --csv writes the table as CSV, --figure plots every run's tip
+against the references (u_x and u_y; --labels names the runs there). In a 3D run (the tip's u_z
 exists) the references' vertical u_y is compared with u_z, the vertical there.
 
-  /usr/bin/python3 scripts/gate_rmse.py RUN [RUN ...] [--until T] [--csv FILE]
+  /usr/bin/python3 scripts/gate_rmse.py RUN [RUN ...] [--until T] [--csv FILE] [--figure PNG] [--labels A B ...]
 """
 import argparse
 import json
@@ -38,6 +39,8 @@ def main():
     ap.add_argument("runs", nargs="+")
     ap.add_argument("--until", type=float, default=math.inf, help="RMSE up to this time [s]")
     ap.add_argument("--csv", help="also write the table to this CSV file")
+    ap.add_argument("--figure", help="also plot the runs' tips against the references (PNG)")
+    ap.add_argument("--labels", nargs="+", help="the runs' names in the figure (default: their folders)")
     args = ap.parse_args()
     refs = references()
     header = ["run"] + [f"u{c} {name} [mm]" for c, name in refs] + ["peak ux [mm]", "at [s]", "end [s]", "wall [s]"]
@@ -65,6 +68,34 @@ def main():
             f.write(",".join(header) + "\n")
             for row in rows:
                 f.write(",".join(row) + "\n")
+    if args.figure:
+        figure(args.runs, args.labels or args.runs, refs, args.figure)
+
+
+def figure(runs, labels, refs, path):
+    """u_x and u_y of each run's tip beside the reference curves."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    markers = {}
+    for (comp, name), ref in refs.items():
+        marker = markers.setdefault(name, "os^d"[len(markers) % 4])
+        axes[0 if comp == "x" else 1].plot(ref[:, 0], 1e3 * ref[:, 1], marker, ms=3.5, color="0.45", mfc="none",
+                                           label=name)
+    for k, (run, label) in enumerate(zip(runs, labels)):
+        d = read_probes(run)
+        vertical = "tip.uz" if "tip.uz" in d else "tip.uy"
+        axes[0].plot(d["time"], 1e3 * d["tip.ux"], lw=1.3, color=f"C{k}", label=label)
+        axes[1].plot(d["time"], 1e3 * d[vertical], lw=1.3, color=f"C{k}", label=label)
+    for ax, comp in zip(axes, ("u_x", "u_y")):
+        ax.set_xlabel("t [s]")
+        ax.set_ylabel(f"tip {comp} [mm]")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
 
 
 if __name__ == "__main__":

@@ -158,11 +158,11 @@ TEST(MultiResolution, RefinementOneIsTheUniformCase) {
 }
 
 // The elastic gate as shipped (water 2.5 mm, gate 1.25 mm: T/dx = 4), to 0.12 s, past the tip's first
-// peak: the tip follows the references while the water pushes it open, and no water enters the gate
-// or the walls. Measured 2026-12-05 at the shipped fluid Courant 0.3 (the uniform 1.25 mm run in
-// brackets): peak u_x 37.7 mm at 0.111 s (38.4 mm at 0.109 s; references 39.0-42.7 mm); RMSE of u_x
-// against Yang 0.74 mm, Ng 0.85 mm; of u_y against Yang 0.67 mm (at Courant 0.2: 38.2 mm, 0.63, 0.85,
-// 0.51 mm).
+// peak: the tip (the free end's downstream bottom corner, the references' point) follows the references
+// while the water pushes it open, and no water enters the gate or the walls. References: the three
+// simulations' peak, 39.0-42.7 mm at 0.115-0.12 s; the RMSEs below are today's measured values beside
+// them. Measured 2026-12-07: peak u_x 37.06 mm at 0.1055 s; RMSE of u_x against Yang 0.865 mm, Ng
+// 0.889 mm; of u_y against Yang 0.815 mm (the corner's u_y leads Yang's rise by about 5 ms).
 TEST(MultiResolution, ElasticGateTipFollowsTheReferencesToItsPeak) {
   const fs::path out = fresh_dir("multiresolution_gate");
   const auto r = isph("run " + kCases + "elastic_gate.toml --quiet --out " + out.string() +
@@ -173,13 +173,15 @@ TEST(MultiResolution, ElasticGateTipFollowsTheReferencesToItsPeak) {
   const auto& ux = probes.at("tip.ux");
   const auto& uy = probes.at("tip.uy");
   const auto peak = std::max_element(ux.begin(), ux.end());
-  EXPECT_NEAR(*peak, 37.7e-3, 1.0e-3);
-  EXPECT_NEAR(t[static_cast<std::size_t>(peak - ux.begin())], 0.111, 0.004);
+  EXPECT_GT(*peak, 0.85 * 39.0e-3);  // the references' lowest peak
+  EXPECT_LT(*peak, 42.7e-3);         // and their highest
+  EXPECT_NEAR(*peak, 37.06e-3, 0.5e-3);
+  EXPECT_NEAR(t[static_cast<std::size_t>(peak - ux.begin())], 0.1055, 0.004);
   const std::string gate = "antoci_2007_elastic_gate/ng_2020_elastic_dam_break_";
-  EXPECT_NEAR(rmse_against(t, ux, read_reference(gate + "x_displacement_yang_2012_sph_fem.csv")), 0.74e-3, 0.1e-3);
-  EXPECT_NEAR(rmse_against(t, ux, read_reference(gate + "x_displacement_ng_2020_sph_vcpm_alpha_1.csv")), 0.85e-3,
+  EXPECT_NEAR(rmse_against(t, ux, read_reference(gate + "x_displacement_yang_2012_sph_fem.csv")), 0.865e-3, 0.1e-3);
+  EXPECT_NEAR(rmse_against(t, ux, read_reference(gate + "x_displacement_ng_2020_sph_vcpm_alpha_1.csv")), 0.889e-3,
               0.1e-3);
-  EXPECT_NEAR(rmse_against(t, uy, read_reference(gate + "y_displacement_yang_2012_sph_fem.csv")), 0.67e-3, 0.1e-3);
+  EXPECT_NEAR(rmse_against(t, uy, read_reference(gate + "y_displacement_yang_2012_sph_fem.csv")), 0.815e-3, 0.1e-3);
   const std::string s = read_file(out / "summary.json");
   EXPECT_EQ(json_number(s, "fluid_inside_structure_max"), 0) << s;
   EXPECT_EQ(json_number(s, "fluid_inside_wall_max"), 0) << s;
@@ -187,17 +189,17 @@ TEST(MultiResolution, ElasticGateTipFollowsTheReferencesToItsPeak) {
 
 // The gate as shipped, to 0.12 s, with each hyperelastic law at the rubber's small-strain moduli
 // (structure/elastic_law.hpp): the gate's strains stay small enough that each opens it like St.
-// Venant-Kirchhoff, within 0.2 mm of its peak (37.7 mm) and of its RMSEs (docs/VALIDATION.md, "Hyperelastic
-// rubber"). Measured 2026-12-06 (the PPE's first-moment correction in full rows only, docs/VALIDATION.md
-// section 10): peak and u_x RMSE against Yang, each law's in the table below.
+// Venant-Kirchhoff, within 0.2 mm of its peak (37.06 mm) and of its RMSE against Yang (0.865 mm)
+// (docs/VALIDATION.md, "Hyperelastic rubber"). Measured 2026-12-07 at the tip's corner (docs/VALIDATION.md
+// section 14): peak and u_x RMSE against Yang, each law's in the table below.
 TEST(MultiResolution, ElasticGateOpensAlikeWithEveryElasticLaw) {
   const std::string gate = "antoci_2007_elastic_gate/ng_2020_elastic_dam_break_";
   const struct {
     const char* model;
     const char* sets;
     double peak, rmse_yang;
-  } laws[] = {{"neo_hookean", "", 37.59e-3, 0.805e-3},
-              {"mooney_rivlin", " --set materials.rubber.c01_fraction=0.2", 37.68e-3, 0.773e-3}};
+  } laws[] = {{"neo_hookean", "", 37.04e-3, 0.936e-3},
+              {"mooney_rivlin", " --set materials.rubber.c01_fraction=0.2", 37.13e-3, 0.885e-3}};
   for (const auto& law : laws) {
     const fs::path out = fresh_dir(std::string("gate_") + law.model);
     const auto r = isph("run " + kCases + "elastic_gate.toml --quiet --out " + out.string() +
@@ -211,8 +213,8 @@ TEST(MultiResolution, ElasticGateOpensAlikeWithEveryElasticLaw) {
     const double rmse = rmse_against(t, ux, read_reference(gate + "x_displacement_yang_2012_sph_fem.csv"));
     EXPECT_NEAR(peak, law.peak, 0.01 * law.peak) << law.model;
     EXPECT_NEAR(rmse, law.rmse_yang, 0.05 * law.rmse_yang) << law.model;
-    EXPECT_NEAR(peak, 37.7e-3, 0.2e-3) << law.model;  // St. Venant-Kirchhoff's
-    EXPECT_NEAR(rmse, 0.74e-3, 0.2e-3) << law.model;
+    EXPECT_NEAR(peak, 37.06e-3, 0.2e-3) << law.model;  // St. Venant-Kirchhoff's
+    EXPECT_NEAR(rmse, 0.865e-3, 0.2e-3) << law.model;
   }
 }
 
