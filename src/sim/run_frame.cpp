@@ -29,7 +29,7 @@ std::string format_duration(double s) {
 }  // namespace
 
 RunFrame::RunFrame(const CaseSpec& spec, const RunOptions& opt, std::vector<std::string> probe_columns, int dimension)
-    : spec_(spec), opt_(opt), wall0_(RunClock::now()), last_progress_(wall0_) {
+    : spec_(spec), opt_(opt), wall0_(RunClock::now()), last_progress_(wall0_), last_flush_(wall0_) {
   result.out_dir = opt.out_dir.empty() ? "out/" + spec.name : opt.out_dir;
   std::filesystem::create_directories(result.out_dir);
   write_file_atomically(result.out_dir + "/case.resolved.toml", spec.resolved_toml);
@@ -85,6 +85,7 @@ bool RunFrame::final_snapshot_due() const {
 void RunFrame::flush() {
   probes.flush();
   energy.flush();
+  last_flush_ = RunClock::now();
 }
 
 void RunFrame::add_energy_row(double t, double fluid_kinetic, double fluid_potential, double structure_kinetic,
@@ -94,6 +95,7 @@ void RunFrame::add_energy_row(double t, double fluid_kinetic, double fluid_poten
       fluid_kinetic + fluid_potential + structure_kinetic + structure_potential + structure_strain - boundary_work;
   energy.add_row({t, fluid_kinetic, fluid_potential, structure_kinetic, structure_potential, structure_strain,
                   boundary_work, total});
+  if (seconds_since(last_flush_) >= kFlushSeconds) flush();
   if (!books_open_) {
     books_ = EnergyBooks(total, releasable_potential + fluid_kinetic + structure_kinetic + structure_strain);
     books_open_ = true;

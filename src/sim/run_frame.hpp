@@ -38,7 +38,9 @@ class RunFrame {
 
   // Writes a row of energy.csv and posts it to the energy books, which open on the first row (a run's
   // start, with `releasable_potential`, the potential energy motion can release). A run whose books no
-  // longer balance has diverged.
+  // longer balance has diverged. Every kFlushSeconds of wall time probes.csv and energy.csv are written
+  // out, so that a long run without snapshots shows its progress on disk.
+  static constexpr double kFlushSeconds = 30;
   void add_energy_row(double t, double fluid_kinetic, double fluid_potential, double structure_kinetic,
                       double structure_potential, double structure_strain, double boundary_work,
                       double releasable_potential);
@@ -71,7 +73,7 @@ class RunFrame {
  private:
   const CaseSpec& spec_;
   const RunOptions& opt_;
-  RunClock::time_point wall0_, last_progress_;
+  RunClock::time_point wall0_, last_progress_, last_flush_;
   bool write_snapshots_ = false;
   double out_interval_ = 0, next_out_ = 0, snap_interval_ = 0, next_snap_ = 0;
   double start_time_ = 0;
