@@ -13,7 +13,15 @@ which is 1 for the continuum (the double integral of the kernel gradient over th
 adds nothing in the continuum (its part is odd about the wall). Particles sit on cell centres, the wall's
 rows at -dx/2, -3dx/2, ..., the fluid's at dx/2, 3dx/2, ...
 
+With --offsets the fluid's lattice is shifted along the wall by a fraction of dx (its rows no longer stand
+over the wall's columns, as in water flowing along a wall): the constant then depends on the shift. The
+same table gives the force normalised by the aligned lattice's constant, which equals the first moment m
+of the kernel gradient, sum_b V_b (r_b - r_a) (x) grad W_ab = m I on a full lattice (what a kernel gradient
+correction, Bonet & Lok 1999, divides by there): exact on the aligned lattice, larger than 1 on average
+over shifts.
+
     /usr/bin/python3 scripts/lattice_wall_force.py [--h-factors 1.0 1.2 1.5]
+    /usr/bin/python3 scripts/lattice_wall_force.py --offsets 8 [--h-factors 1.2]
 """
 import argparse
 import itertools
@@ -31,7 +39,7 @@ def cubic_spline_derivative(r, h, dimension):
     return 0.0
 
 
-def lattice_factor(h_factor, dimension, dx=1.0):
+def lattice_factor(h_factor, dimension, dx=1.0, offset=0.0):
     h = h_factor * dx
     layers = math.ceil(2 * h_factor) + 1   # rows within the support on either side
     volume = dx**dimension
@@ -41,7 +49,8 @@ def lattice_factor(h_factor, dimension, dx=1.0):
         for j in range(layers):            # the fluid's rows b, at ((k...) dx, (j + 1/2) dx)
             yb = (j + 0.5) * dx
             for k in itertools.product(range(-layers, layers + 1), repeat=dimension - 1):
-                r = math.sqrt(sum((kk * dx) ** 2 for kk in k) + (yb - ya) ** 2)
+                tangential = [(kk + (offset if i_axis == 0 else 0.0)) * dx for i_axis, kk in enumerate(k)]
+                r = math.sqrt(sum(t * t for t in tangential) + (yb - ya) ** 2)
                 # the normal component (into the fluid) of grad_a W_ab = dW/dr (r_a - r_b) / r
                 total += volume * volume * cubic_spline_derivative(r, h, dimension) * (ya - yb) / r
     return 2 * total / dx ** (dimension - 1)
@@ -50,7 +59,19 @@ def lattice_factor(h_factor, dimension, dx=1.0):
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--h-factors", type=float, nargs="+", default=[1.0, 1.2, 1.3, 1.5, 2.0])
+    parser.add_argument("--offsets", type=int, default=0, help="shift the fluid along the wall by k/N dx, k < N")
     a = parser.parse_args()
+    if a.offsets:
+        for hf in a.h_factors:
+            for dim in (2, 3):
+                aligned = lattice_factor(hf, dim)
+                raw = [lattice_factor(hf, dim, offset=k / a.offsets) for k in range(a.offsets)]
+                print(f"h / dx = {hf:g}, {dim}D: shift / dx | pairwise | normalised by m")
+                for k, value in enumerate(raw):
+                    print(f"  {k / a.offsets:.3f} | {value:.5f} | {value / aligned:.5f}")
+                mean = sum(raw) / len(raw)
+                print(f"  mean | {mean:.5f} | {mean / aligned:.5f}")
+        return
     print("| h / dx | 2D | 3D |")
     print("|---|---|---|")
     for hf in a.h_factors:
