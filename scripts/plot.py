@@ -4,7 +4,7 @@
   plot.py probes RUN_DIR [--fields tip.uy,tip.ux] [--reference FILE[:LABEL[:SCALE[:SHIFT[:TIME_SCALE]]]] ...]
   plot.py energy RUN_DIR
   plot.py snapshot RUN_DIR [--field NAME] [--index K | --time T] [--structure-field NAME] [--deformed | --reference]
-  plot.py compare --runs DIR1,DIR2,... --field tip.uy [--labels a,b] [--reference SPEC]
+  plot.py compare --runs DIR1,DIR2,... --field tip.uy [--labels a,b] [--reference SPEC] [--level VALUE:LABEL]
 
 Axes carry SI units, taken from the field names (a probe's ux/uy/uz and x in m, p in Pa, u in m/s;
 snapshot fields by name).
@@ -369,6 +369,10 @@ def cmd_compare(args):
         ax.plot(time, columns[args.field], linewidth=1.3, label=label)
     for number, spec in enumerate(args.reference):
         Reference(spec).plot(ax, number)
+    for number, spec in enumerate(args.level):
+        value, _, label = spec.partition(":")
+        ax.axhline(float(value), color="0.3", linestyle=("--", ":", "-.")[number % 3], linewidth=1.0,
+                   label=label or value)
     ax.set_xlabel(f"{time_name} [s]")
     ax.set_ylabel(with_unit(args.field, PROBE_UNITS))
     ax.grid(True, alpha=0.3)
@@ -423,6 +427,8 @@ def parser():
     compare.add_argument("--field", required=True, help="probe column, e.g. tip.uy")
     compare.add_argument("--labels", help="comma-separated legend labels (default: run names)")
     compare.add_argument("--reference", action="append", default=[], help=reference_help)
+    compare.add_argument("--level", action="append", default=[],
+                         help="a constant reference VALUE[:LABEL] (an analytical static value); repeatable")
     compare.add_argument("--out", help="PNG file (default: compare_<field>.png)")
     compare.set_defaults(run=cmd_compare)
     return top

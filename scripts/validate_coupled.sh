@@ -67,10 +67,10 @@ PY
     fi
   fi
   if [ -n "${PLATE_FINE:-}" ]; then  # the plate finer under the shipped water (1/60 m)
-    run plate_T8 cases/hydrostatic_plate.toml --set bodies.plate.dx=0.00625 "${PLATE[@]}" &
-    run plate_T12 cases/hydrostatic_plate.toml --set bodies.plate.dx=0.004166666666666667 "${PLATE[@]}"
+    run plate_T8 cases/hydrostatic_plate.toml --set bodies.plate.dx=0.00625 --set coupling.max_iterations=3 "${PLATE[@]}" &
+    run plate_T12 cases/hydrostatic_plate.toml --set bodies.plate.dx=0.004166666666666667 --set coupling.max_iterations=3 "${PLATE[@]}"
     wait
-    run plate_T10 cases/hydrostatic_plate.toml --set bodies.plate.dx=0.005 "${PLATE[@]}"
+    run plate_T10 cases/hydrostatic_plate.toml --set bodies.plate.dx=0.005 --set coupling.max_iterations=3 "${PLATE[@]}"
   fi
   if [ -n "${LIAO:-}" ]; then  # the Liao plate at dx = 1 mm, 0.6 s: about 2 hours of one core to the impact at 0.24 s, then about 8 (rates measured beside a second run)
     # without structure-wall contact to 0.31 s (the flow lays the plate flat and pushes it through the
