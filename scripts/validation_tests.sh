@@ -4,4 +4,4 @@
 #   bash scripts/validation_tests.sh        (after scripts/build.sh)
 set -euo pipefail
 cd "$(dirname "$0")/../build"
-ctest --output-on-failure -j "$(nproc)" --timeout 1800 -L validation
+OMP_NUM_THREADS=1 ctest --output-on-failure -j "$(nproc)" --timeout 1800 -L validation  # one thread per test (scripts/test.sh)
