@@ -84,7 +84,7 @@ void tlsph_acceleration(const Exec& exec, const TlsphView<D>& view);
 // A structure's loops are short (hundreds of particles) and run tens of thousands of times per
 // simulated second: from this size they take every thread. On two quiet cores the gate's structure
 // phase takes 2.6 s instead of 3.6 s on one, the 2D plate's 22.7 s instead of 32.2 s (docs/PERFORMANCE.md);
-// when the cores are shared, give the run fewer threads (scripts/test.sh runs each test on one).
+// when the cores are shared, give the run fewer threads (scripts/ci/test.sh runs each test on one).
 inline constexpr Index kStructureParallelLoop = 64;
 
 template <int D>

@@ -1,5 +1,5 @@
 // libFuzzer target for the case loader (docs/RELIABILITY.md, "Fuzzing"): built with clang by
-// -DISPH_FUZZ=ON, run by scripts/fuzz.sh. Input format: tests/fuzz/case_input.hpp.
+// -DISPH_FUZZ=ON, run by scripts/ci/fuzz.sh. Input format: tests/fuzz/case_input.hpp.
 #include <unistd.h>
 
 #include <cstddef>

@@ -133,7 +133,7 @@ inline double interpolate(const std::vector<std::pair<double, double>>& curve, d
 }
 
 // RMSE of a run's u(t) against the reference points inside the run's time range (as
-// scripts/coupled_report.py computes it).
+// scripts/validate/coupled_report.py computes it).
 inline double rmse_against(const std::vector<double>& time, const std::vector<double>& u,
                            const std::vector<std::pair<double, double>>& reference) {
   double sum = 0;

@@ -274,7 +274,7 @@ double first_above(const std::vector<double>& t, const std::vector<double>& v, d
 // walls three particles thick, to 0.6 s: the collapsing column's surge reaches the gauges H3 and H2 and
 // hits the obstacle's face at P1. Experiment (Kleefsman et al. 2005): H3 wet (above 2 cm) from
 // 0.218 s, H2 from 0.368 s, P1 above 1 kPa from 0.394 s; P1's first impact in a centred 10 ms mean
-// 10.07 kPa, and its impulse over 0.1 s from its arrival 803 Pa s (scripts/dam_break_3d_report.py). The
+// 10.07 kPa, and its impulse over 0.1 s from its arrival 803 Pa s (scripts/validate/dam_break_3d_report.py). The
 // raw peak is not asserted: it has not converged (it grows as dx falls, section 30). Measured
 // 2026-12-06: 0.248, 0.395 and 0.431 s, each 0.03-0.04 s after the experiment (at every gauge alike:
 // the experiment's gate takes time to lift); the 10 ms mean peak 10.74 kPa, the impulse 557 Pa s (it

@@ -1,5 +1,5 @@
 // The plate of cases/hydrostatic_plate_3d.toml without its water (docs/VALIDATION.md section 32): a square
-// aluminium plate clamped on all four edges sags as the 3D continuum that scripts/fe_plate_3d.py solves.
+// aluminium plate clamped on all four edges sags as the 3D continuum that scripts/reference/fe_plate_3d.py solves.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -68,7 +68,7 @@ double rest_centre(const std::string& quadrature) {
 
 }  // namespace
 
-// The 3D continuum's centre deflection (scripts/fe_plate_3d.py --span 0.5 --pressure 1e5, 27-node
+// The 3D continuum's centre deflection (scripts/reference/fe_plate_3d.py --span 0.5 --pressure 1e5, 27-node
 // hexahedra): 1.1604e-5, 1.1871e-5 and 1.1887e-5 m at 8 x 8 x 1, 12 x 12 x 2 and 16 x 16 x 2 elements on the
 // quarter plate. Cell quadrature comes within 1.2 % of it; the midpoint rule ("point") leaves the plate
 // 5.6 % softer. Measured 2026-12-05: cell 1.2029e-5 m, point 1.2554e-5 m.
@@ -185,7 +185,7 @@ double mean_after(const std::vector<double>& t, const std::vector<double>& v, do
 }  // namespace
 
 // The coupled 3D plate settles under the water as the 3D continuum sags under the column's pressure
-// (rho g H = 2,452.5 Pa) and its weight: 1,000 times scripts/fe_plate_3d.py --span 0.5 --pressure
+// (rho g H = 2,452.5 Pa) and its weight: 1,000 times scripts/reference/fe_plate_3d.py --span 0.5 --pressure
 // 2452.5 --elements 16 2, 4.4316e-4 m (thin-plate theory: 3.741e-4 m). The pressure 0.01 m above the
 // plate is hydrostatic, rho g (H - 0.01) = 2,354.4 Pa; the water carried by the plate is the column's
 // weight less the pairwise force's 3D lattice sum (0.9817, docs/VALIDATION.md section 33), and no water

@@ -41,7 +41,7 @@ TEST(Cantilever, CoarseElasticaTipDeflection) {
 
 // The Liao plate (T/dx = 4, nu = 0.45, plane strain) bent to large rotation by a dead traction of
 // 400 Pa on its face, damped to rest: the tip 69.01 mm downstream and 39.76 mm lower for the same
-// solid by finite elements (scripts/fe_beam.py liao --elements 60 3 --load 400; the case as shipped
+// solid by finite elements (scripts/reference/fe_beam.py liao --elements 60 3 --load 400; the case as shipped
 // is 0.8 % and 3.5 % short). A structure too soft in large rotation would overshoot.
 TEST(LiaoPlateDry, LargeRotationMatchesTheContinuum) {
   const fs::path out = fresh_dir("liao_plate_dry");
@@ -57,7 +57,7 @@ TEST(LiaoPlateDry, LargeRotationMatchesTheContinuum) {
 
 // The elastic gate's rubber alone (T/dx = 4, plane strain, hourglass control 5), bent by a dead traction
 // of 300 Pa on its upstream face and damped to rest: the free end 9.804 mm downstream and 0.698 mm higher
-// for the same solid by finite elements (scripts/fe_beam.py gate --elements 80 6 --load 300; 9.785 and
+// for the same solid by finite elements (scripts/reference/fe_beam.py gate --elements 80 6 --load 300; 9.785 and
 // 0.695 mm at 40 x 4). Measured 2026-12-07: 9.851 and 0.700 mm (+0.5 %). The coupled gate's load history
 // gives its tip through this stiffness (docs/VALIDATION.md section 25): at hourglass 2.5 the gate is
 // 20 % too soft here.

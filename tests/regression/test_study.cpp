@@ -1,4 +1,4 @@
-// The study runner (scripts/study.py) on cases/studies/smoke.toml: two resolutions of the oscillating
+// The study runner (scripts/validate/study.py) on cases/studies/smoke.toml: two resolutions of the oscillating
 // plate, a few seconds. Checks the table and the charts it writes, not the physics (the structure tests
 // do that). Skipped without Debian's python with matplotlib, numpy and h5py.
 #include <gtest/gtest.h>
@@ -29,9 +29,9 @@ TEST(Study, SmokeStudyWritesTableAndCharts) {
     GTEST_SKIP() << kPython << " with tomllib, matplotlib, numpy and h5py is needed";
   const fs::path out = fresh_dir("study");
   fs::create_directories(out);
-  const std::string cmd = kPython + " " + kSource + "/scripts/study.py " + kCases + "studies/smoke.toml --out " +
-                          out.string() + " --isph " + kIsph + " --threads 1 > " + (out / "study.log").string() +
-                          " 2>&1";
+  const std::string cmd = kPython + " " + kSource + "/scripts/validate/study.py " + kCases +
+                          "studies/smoke.toml --out " + out.string() + " --isph " + kIsph + " --threads 1 > " +
+                          (out / "study.log").string() + " 2>&1";
   const int rc = std::system(cmd.c_str());
   ASSERT_TRUE(WIFEXITED(rc) && WEXITSTATUS(rc) == 0) << read_file(out / "study.log");
 

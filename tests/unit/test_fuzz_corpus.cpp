@@ -1,6 +1,6 @@
-// Replays the case loader's fuzz corpus and every crashing input it found (tests/fuzz/, scripts/fuzz.sh):
+// Replays the case loader's fuzz corpus and every crashing input it found (tests/fuzz/, scripts/ci/fuzz.sh):
 // each loads to a case or is refused with an exception; a crash, a hang or (in the sanitized build,
-// scripts/sanitize.sh) a sanitizer report fails the suite.
+// scripts/ci/sanitize.sh) a sanitizer report fails the suite.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
