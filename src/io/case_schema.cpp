@@ -242,15 +242,8 @@ std::vector<CaseKey> declare_keys() {
       keys, "fluid.ppe", "preconditioner_reuse", [](auto& c) -> auto& { return c.fluid.ppe.preconditioner_reuse; })
       .bounds(KeyBounds{0, 1000})
       .doc(
-          "keep the AMG hierarchy (hypre's BoomerAMG, or native and cuda's aggregation AMG, which smooths with each "
-          "new matrix's own rows) for up to this many further fluid steps, the Krylov method taking each new matrix "
-          "(the interface iterations of one step always share it). A kept hierarchy is dropped when the particles "
-          "are reordered (every 20 steps), when a solve needs more than twice the iterations of the one after its "
-          "set-up (plus two), or when a solve fails (the step is then solved again with a fresh one). The hydrostatic "
-          "plate uses 10 with hypre and a tolerance of 1e-5: on the gate the PPE solve took 18.2 s instead of 25.6 "
-          "s (1e-8, a new hierarchy every step; 1 thread), the tip's RMSEs within 0.05 mm (docs/SOLVERS.md); the "
-          "elastic gate 20 with the native AMG (docs/PERFORMANCE.md). Jacobi, polynomial and ILU preconditioners "
-          "are built afresh for every matrix");
+          "keep the AMG hierarchy for up to this many further fluid steps, the Krylov method taking each new "
+          "matrix; when it is dropped and what it saves: below the table");
   // [fluid.wcsph]
   add(
       keys, "fluid.wcsph", "time_stepping", [](auto& c) -> auto& { return c.fluid.wcsph.time_stepping; })
@@ -290,9 +283,7 @@ std::vector<CaseKey> declare_keys() {
       keys, "coupling", "fsi_shifting", [](auto& c) -> auto& { return c.coupling.fsi_shifting; })
       .doc(
           "the FSI shifting layer (seed Eqs. 27-30) for fluid particles beside a structure, which changes their shift "
-          "along the structure's normal by `fsi_shifting_law`. With the literal law it keeps the hydrostatic plate's "
-          "deflection within 1.5 % (3.4 % without) but throttles the flow past the elastic gate (peak 34.4 mm against "
-          "37.7 without), whose case file and the Walhorn obstacle's turn it off (docs/VALIDATION.md §26)");
+          "along the structure's normal by `fsi_shifting_law`; what it does to the shipped cases: below the table");
   add(
       keys, "coupling", "fsi_shifting_law", [](auto& c) -> auto& { return c.coupling.fsi_shifting_law; })
       .doc(
@@ -314,29 +305,19 @@ std::vector<CaseKey> declare_keys() {
       .bounds(KeyBounds{1})
       .doc(
           "interface iterations per fluid step; `1` is the staggered (explicit) scheme, unstable when the fluid's "
-          "added mass exceeds the structure's and `implicit_added_mass` is off. The shipped FSI cases use `2`: most "
-          "steps then end at the cap (`unconverged_steps` counts them), and summary.json's "
-          "`performance.coupling.mean_interface_residual` and `max_interface_residual` give |H(a) − a| / |a_s| at each "
-          "step's end; their tip and deflection histories stay within 0.13 mm and 1.5 % of converged iterations "
-          "(docs/VALIDATION.md §12). Where the mean residual exceeds 1 the run warns at its end (stderr and "
-          "`performance.coupling.warning`): two iterations do not carry to finer water (the gate at 0.625 mm, "
-          "docs/VALIDATION.md §25)");
+          "added mass exceeds the structure's and `implicit_added_mass` is off; the shipped cases' `2` and the "
+          "residual summary.json reports: below the table");
   add(
       keys, "coupling", "first_ppe_tolerance", [](auto& c) -> auto& { return c.coupling.first_ppe_tolerance; })
       .bounds(KeyBounds{0, 1, false, true})
       .doc(
           "`0`: the PPE's own `fluid.ppe.tolerance`; otherwise the PPE tolerance of each fluid step's first interface "
-          "iteration, when `max_iterations` > 1. That iterate only feeds the quasi-Newton update, so it may be solved "
-          "loosely; it then never ends the iterations, and the later iterations solve to the PPE's tolerance "
-          "(docs/PERFORMANCE.md measures it on the shipped cases)");
+          "iteration, when `max_iterations` > 1 (below the table)");
   add(
       keys, "coupling", "implicit_added_mass", [](auto& c) -> auto& { return c.coupling.implicit_added_mass; })
       .doc(
-          "the structure's inertia in its PPE rows: a structure row's acceleration includes β f_s(p)/ρ_s, the response "
-          "to the pressure's own force (β = 1/2 under a held α, 1/6 under the interpolated one), so the pressure "
-          "equation carries the structure's mass beside the water's and the staggered scheme holds under heavy water "
-          "(poisson/ppe_assembly.hpp; docs/VALIDATION.md §12). `false`: the rows take the structure's acceleration as "
-          "given (the seed's scheme)");
+          "the structure's inertia in its PPE rows (below the table); `false`: the rows take the structure's "
+          "acceleration as given (the seed's scheme)");
   add(
       keys, "coupling", "reuse_steps", [](auto& c) -> auto& { return c.coupling.reuse_steps; })
       .bounds(KeyBounds{0, 100})
@@ -344,10 +325,7 @@ std::vector<CaseKey> declare_keys() {
   add(
       keys, "coupling", "wall_contact", [](auto& c) -> auto& { return c.coupling.wall_contact; })
       .doc(
-          "structure-wall contact: a structure particle (a disc of its spacing) that overlaps a wall particle is "
-          "pushed out by a penalty of the structure's own P-wave modulus (`structure/tlsph_functors.hpp`); without it "
-          "a structure laid on a wall passes through it. The summary reports `steps_with_wall_contact` and "
-          "`max_wall_overlap` (docs/VALIDATION.md §12)");
+          "structure-wall contact: a penalty that pushes a structure particle out of the walls (below the table)");
   // [output]
   add(
       keys, "output", "interval", [](auto& c) -> auto& { return c.output.interval; })
