@@ -324,8 +324,7 @@ std::vector<CaseKey> declare_keys() {
       .doc("earlier fluid steps whose iterations the quasi-Newton method (IQN-ILS) reuses");
   add(
       keys, "coupling", "wall_contact", [](auto& c) -> auto& { return c.coupling.wall_contact; })
-      .doc(
-          "structure-wall contact: a penalty that pushes a structure particle out of the walls (below the table)");
+      .doc("structure-wall contact: a penalty that pushes a structure particle out of the walls (below the table)");
   // [output]
   add(
       keys, "output", "interval", [](auto& c) -> auto& { return c.output.interval; })
