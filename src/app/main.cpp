@@ -123,6 +123,10 @@ int main(int argc, char** argv) {
   auto* check = app.add_subcommand("check", "validate a case file and report every problem");
   check->add_option("case", c.case_path, "case file (TOML)")->required();
   check->add_option("--set", c.overrides, "override a case key: --set dotted.key=value (repeatable)");
+  bool print_resolved = false;
+  check->add_flag("--resolved", print_resolved,
+                  "print the case as it would run (overrides applied, every default written out: the run's "
+                  "case.resolved.toml)");
 
   std::string cases_dir = std::string(ISPH_SOURCE_DIR) + "/cases";
   auto* cases = app.add_subcommand("cases", "list the bundled cases");
@@ -141,6 +145,7 @@ int main(int argc, char** argv) {
     if (*keys) return print_keys(docs_path);
     if (*check) {
       const CaseSpec spec = load_and_check(c.case_path, c.overrides);
+      if (print_resolved) return std::fputs(spec.resolved_toml.c_str(), stdout) < 0 ? 1 : 0;
       std::printf("%s: ok (case '%s', %dD, dx = %g m, end_time = %g s)\n", c.case_path.c_str(), spec.name.c_str(),
                   spec.dimension, spec.dx, spec.end_time);
       return 0;
