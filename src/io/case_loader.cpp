@@ -191,8 +191,25 @@ void reject(Table& t, const std::string& key, const std::string& reason) {
 
 // A value key: read into a copy, checked (bounds, a direction's length), then stored. Returns whether the
 // file gave a valid value.
+// An integer key: read as TOML's 64-bit integer, checked against its bounds and an int's range.
+template <class Item>
+bool read_value(Table& t, const SchemaKey<Item>& key, int& target, Need need) {
+  std::int64_t value = target;
+  if (!t.read(key.name, value, need)) return false;
+  if (!key.bounds.admits(static_cast<double>(value))) {
+    t.problem(key.name, "must be " + key.bounds.text(true) + " (got " + std::to_string(value) + ")");
+    return false;
+  }
+  if (value < std::numeric_limits<int>::min() || value > std::numeric_limits<int>::max()) {
+    t.problem(key.name, "must fit an int (got " + std::to_string(value) + ")");
+    return false;
+  }
+  target = static_cast<int>(value);
+  return true;
+}
+
 template <class T, class Item>
-bool read_value(Table& t, const ListKey<Item>& key, T& target, Need need) {
+bool read_value(Table& t, const SchemaKey<Item>& key, T& target, Need need) {
   T value = target;
   if (!t.read(key.name, value, need)) return false;
   if constexpr (std::is_same_v<T, double>) {
@@ -220,7 +237,7 @@ bool read_value(Table& t, const ListKey<Item>& key, T& target, Need need) {
 
 // A choice key: one of the names the dimension offers.
 template <class Item>
-bool read_name(Table& t, const ListKey<Item>& key, Item& item, Need need) {
+bool read_name(Table& t, const SchemaKey<Item>& key, Item& item, Need need) {
   std::string name;
   if (!t.read(key.name, name, need)) return false;
   if (std::find(key.choices.begin(), key.choices.end(), name) == key.choices.end()) {
@@ -232,33 +249,40 @@ bool read_name(Table& t, const ListKey<Item>& key, Item& item, Need need) {
   return true;
 }
 
-// Reads an element's declared keys in their order. A key not for this element (given the keys before
-// it and the dimension) is reported if the file gives it; a bad value is reported and leaves the
-// default; after a missing or bad discriminator (a type, a model) the other keys are not judged.
-// Returns the keys read, or nothing when a discriminator stopped the reading.
+// Reads one declared key of an element, in its order among the element's keys. A key not for this element
+// (given the keys before it and the dimension) is reported if the file gives it; a bad value is reported
+// and leaves the default. Adds the key to `read` when the file gave a valid value; returns false when a
+// missing or bad discriminator (a type, a model) must stop the reading of the element's other keys.
 template <class Item>
-std::optional<std::set<std::string>> read_item(Table& t, Item& item, const std::vector<ListKey<Item>>& keys) {
+bool read_key(Table& t, Item& item, const SchemaKey<Item>& key, std::set<std::string>& read) {
   const int d = t.ctx().dimension;
+  if (key.applies && !key.applies(item, d)) {
+    reject(t, key.name, key.not_for(item, d));
+    return true;
+  }
+  if (key.preset) key.preset(item, d);
+  const Need need = key.required && key.required(item) ? Need::required : Need::optional;
+  const Item before = item;
+  bool ok = key.set_name ? read_name(t, key, item, need)
+                         : std::visit([&](auto* field) { return read_value(t, key, *field, need); }, key.field(item));
+  if (ok && key.check) {
+    if (const std::string problem = key.check(item, d); !problem.empty()) {
+      t.problem(key.name, problem);
+      item = before;
+      ok = false;
+    }
+  }
+  if (ok) read.insert(key.name);
+  return ok || !key.discriminator || (need != Need::required && !t.has(key.name));
+}
+
+// Reads an element's declared keys in their order; after a missing or bad discriminator the other keys
+// are not judged. Returns the keys read, or nothing when a discriminator stopped the reading.
+template <class Item>
+std::optional<std::set<std::string>> read_item(Table& t, Item& item, const std::vector<SchemaKey<Item>>& keys) {
   std::set<std::string> read;
   for (const auto& key : keys) {
-    if (key.applies && !key.applies(item, d)) {
-      reject(t, key.name, key.not_for(item, d));
-      continue;
-    }
-    if (key.preset) key.preset(item, d);
-    const Need need = key.required && key.required(item) ? Need::required : Need::optional;
-    const Item before = item;
-    bool ok = key.set_name ? read_name(t, key, item, need)
-                           : std::visit([&](auto* field) { return read_value(t, key, *field, need); }, key.field(item));
-    if (ok && key.check) {
-      if (const std::string problem = key.check(item, d); !problem.empty()) {
-        t.problem(key.name, problem);
-        item = before;
-        ok = false;
-      }
-    }
-    if (ok) read.insert(key.name);
-    if (!ok && key.discriminator && (need == Need::required || t.has(key.name))) {
+    if (!read_key(t, item, key, read)) {
       t.ignore_rest();
       return std::nullopt;
     }
@@ -333,48 +357,6 @@ void read_fields(Table& t, BodySpec& b) {
 double default_surface_threshold(int dimension) { return dimension == 2 ? 1.4 : 2.4; }
 double default_surface_full(int dimension) { return dimension == 2 ? 1.6 : 2.6; }
 
-// Reads one declared key if present; a value of the wrong type, out of bounds or not among the
-// choices is reported and leaves the default.
-template <class T>
-void read_key_as(Table& t, CaseSpec& c, const CaseKey& key) {
-  T value{};
-  if (!t.read(key.name, value, key.required ? Need::required : Need::optional)) return;
-  if constexpr (std::is_same_v<T, std::int64_t> || std::is_same_v<T, double>) {
-    const bool integer = std::is_same_v<T, std::int64_t>;
-    if (!key.bounds.admits(static_cast<double>(value))) {
-      t.problem(key.name, "must be " + key.bounds.text(integer) + " (got " +
-                              (integer ? std::to_string(value) : shortest_number(static_cast<double>(value))) + ")");
-      return;
-    }
-    if (integer && (value < std::numeric_limits<int>::min() || value > std::numeric_limits<int>::max())) {
-      t.problem(key.name, "must fit an int (got " + std::to_string(value) + ")");
-      return;
-    }
-  }
-  if constexpr (std::is_same_v<T, std::string>) {
-    if (key.type == KeyType::choice && std::find(key.choices.begin(), key.choices.end(), value) == key.choices.end()) {
-      t.problem(key.name, one_of(key.choices) + " (got " + toml_string(value) + ")");
-      return;
-    }
-  }
-  key.set(c, value);
-}
-
-void read_key(Table& t, CaseSpec& c, const CaseKey& key) {
-  switch (key.type) {
-    case KeyType::boolean:
-      return read_key_as<bool>(t, c, key);
-    case KeyType::integer:
-      return read_key_as<std::int64_t>(t, c, key);
-    case KeyType::number:
-      return read_key_as<double>(t, c, key);
-    case KeyType::vector:
-      return read_key_as<Vec3>(t, c, key);
-    default:
-      return read_key_as<std::string>(t, c, key);
-  }
-}
-
 void check_fluid(Table& t, CaseSpec& c) {
   FluidSpec& f = c.fluid;
   // Judged with the defaults in place of zeros, so that a threshold above the default full value is caught.
@@ -427,9 +409,10 @@ void read_fields(Table& t, Section& s) { read_settings(t, *s.spec, s.name); }
 
 // The keys of `section`, its sub-sections, then the section's cross-key rules.
 void read_settings(Table& t, CaseSpec& c, const std::string& section) {
-  for (const CaseKey& key : case_keys()) {
+  std::set<std::string> read;
+  for (const SettingKey& key : case_keys()) {
     if (key.section != section) continue;
-    read_key(t, c, key);
+    read_key(t, c, key, read);
     if (key.path() == "dimension") t.ctx().dimension = c.dimension;  // the vectors and shapes depend on it
   }
   const std::string prefix = section.empty() ? "" : section + ".";
@@ -472,8 +455,8 @@ std::string resolved_toml(const CaseSpec& c) {
   out << "# The case as run: overrides applied, every default written out.\n";
   for (const std::string& section : case_sections()) {
     if (!section.empty()) out << "\n[" << section << "]\n";
-    for (const CaseKey& key : case_keys())
-      if (key.section == section) out << key.name << " = " << toml_value(key.get(c), d) << "\n";
+    for (const SettingKey& key : case_keys())
+      if (key.section == section) out << key.name << " = " << key_text(key, c, d) << "\n";
   }
   if (const auto periodic = periodic_entries(c.periodic, d); !periodic.empty()) {  // only the periodic axes
     out << "\n[periodic]\n";

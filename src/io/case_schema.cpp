@@ -7,72 +7,21 @@
 #include <type_traits>
 
 #include "io/list_schema.hpp"
+#include "io/schema_declaration.hpp"
 #include "poisson/linear_solver.hpp"
 
 namespace isph {
 
 namespace {
 
-KeyBounds positive() { return {0, KeyBounds{}.hi, true, true}; }
-KeyBounds non_negative() { return {0}; }
-KeyBounds open_unit() { return {0, 1, true, true}; }
+using namespace schema_declaration;
 
-// A key being declared: its type follows from the member's; the rest is set by chained calls.
-class Declaration {
- public:
-  explicit Declaration(CaseKey& key) : key_(key) {}
-  Declaration& unit(std::string u) { return key_.unit = std::move(u), *this; }
-  Declaration& bounds(KeyBounds b) { return key_.bounds = b, *this; }
-  Declaration& required() { return key_.required = true, *this; }
-  Declaration& default_note(std::string note) { return key_.default_note = std::move(note), *this; }
-  // A string key's allowed values (an enum brings its names).
-  Declaration& choices(std::vector<std::string> c) {
-    key_.type = KeyType::choice;
-    return key_.choices = std::move(c), *this;
-  }
-  Declaration& doc(std::string d) { return key_.doc = std::move(d), *this; }
-
- private:
-  CaseKey& key_;
-};
-
-template <class Ref>
-Declaration add(std::vector<CaseKey>& keys, std::string section, std::string name, Ref ref) {
-  using T = std::remove_cvref_t<decltype(ref(std::declval<CaseSpec&>()))>;
-  CaseKey& k = keys.emplace_back();
-  k.section = std::move(section);
-  k.name = std::move(name);
-  if constexpr (std::is_enum_v<T>) {
-    k.type = KeyType::choice;
-    for (const auto& entry : enum_names(T{})) k.choices.emplace_back(entry.name);
-    k.get = [ref](const CaseSpec& c) -> KeyValue { return name_of(ref(c)); };
-    k.set = [ref](CaseSpec& c, const KeyValue& v) { ref(c) = *enum_from_name<T>(std::get<std::string>(v)); };
-  } else {
-    if constexpr (std::is_same_v<T, bool>) {
-      k.type = KeyType::boolean;
-    } else if constexpr (std::is_same_v<T, int>) {
-      k.type = KeyType::integer;
-    } else if constexpr (std::is_same_v<T, double>) {
-      k.type = KeyType::number;
-    } else if constexpr (std::is_same_v<T, std::array<double, 3>>) {
-      k.type = KeyType::vector;
-    } else {
-      static_assert(std::is_same_v<T, std::string>);
-      k.type = KeyType::text;
-    }
-    using Stored = std::conditional_t<std::is_same_v<T, int>, std::int64_t, T>;
-    k.get = [ref](const CaseSpec& c) -> KeyValue { return static_cast<Stored>(ref(c)); };
-    k.set = [ref](CaseSpec& c, const KeyValue& v) { ref(c) = static_cast<T>(std::get<Stored>(v)); };
-  }
-  return Declaration(k);
-}
-
-std::vector<CaseKey> declare_keys() {
-  std::vector<CaseKey> keys;
+std::vector<SettingKey> declare_keys() {
+  std::vector<SettingKey> keys;
   // top level
   add(
       keys, "", "name", [](auto& c) -> auto& { return c.name; })
-      .default_note("file stem")
+      .default_text("file stem")
       .doc("case name; not empty");
   add(
       keys, "", "dimension", [](auto& c) -> auto& { return c.dimension; })
@@ -93,7 +42,7 @@ std::vector<CaseKey> declare_keys() {
   add(
       keys, "", "gravity", [](auto& c) -> auto& { return c.gravity; })
       .unit("m/s²")
-      .default_note("zeros")
+      .default_text("zeros")
       .doc("gravitational acceleration");
   // [kernel]
   add(
@@ -213,7 +162,7 @@ std::vector<CaseKey> declare_keys() {
   // [fluid.ppe]
   add(
       keys, "fluid.ppe", "backend", [](auto& c) -> auto& { return c.fluid.ppe.backend; })
-      .default_note(R"d(`"hypre"` in builds with hypre, `"eigen"` otherwise)d")
+      .default_text(R"d(`"hypre"` in builds with hypre, `"eigen"` otherwise)d")
       .doc(
           R"d(`"eigen"`, `"hypre"` (only in builds with hypre; the run reports it otherwise), `"native"` (the project's BiCGSTAB on the host), `"cuda"` (the same BiCGSTAB on the GPU with cuSPARSE; needs a build with CUDA and a visible device, the run reports it otherwise))d");
   add(
@@ -221,7 +170,7 @@ std::vector<CaseKey> declare_keys() {
       .doc("gmres: eigen and hypre only");
   add(
       keys, "fluid.ppe", "preconditioner", [](auto& c) -> auto& { return c.fluid.ppe.preconditioner; })
-      .default_note(R"d(`"ilu"` for eigen, `"boomeramg"` for hypre, `"jacobi"` for native and cuda)d")
+      .default_text(R"d(`"ilu"` for eigen, `"boomeramg"` for hypre, `"jacobi"` for native and cuda)d")
       .doc(
           R"d(eigen: `"jacobi"`, `"ilu"`, `"none"`; hypre: `"boomeramg"`, `"jacobi"`, `"none"`; native, cuda: `"jacobi"`, `"polynomial"` (three damped Jacobi sweeps), `"amg"` (smoothed-aggregation AMG, one V-cycle; docs/SOLVERS.md), `"none"`; another combination is an error)d");
   add(
@@ -234,7 +183,7 @@ std::vector<CaseKey> declare_keys() {
       .doc("Krylov iterations per solve");
   add(
       keys, "fluid.ppe", "fallback", [](auto& c) -> auto& { return c.fluid.ppe.fallback; })
-      .default_note(
+      .default_text(
           R"d(`"eigen"` when `backend` is not given and the build has hypre, `"none"` otherwise (a case that names a backend names its fallback too))d")
       .doc(
           R"d(`"none"`, `"eigen"`, `"hypre"`: a second backend tried after a failed solve; must differ from `backend`)d");
@@ -258,7 +207,7 @@ std::vector<CaseKey> declare_keys() {
   add(
       keys, "fluid.wcsph", "acoustic_courant", [](auto& c) -> auto& { return c.fluid.wcsph.acoustic_courant; })
       .bounds(positive())
-      .default_note("`0.6` (dual_criteria), `0.25` (single_criterion)")
+      .default_text("`0.6` (dual_criteria), `0.25` (single_criterion)")
       .doc("CFL_ac of Eq. 10: dt_ac <= CFL_ac h/(c + U)");
   add(
       keys, "fluid.wcsph", "sound_speed", [](auto& c) -> auto& { return c.fluid.wcsph.sound_speed; })
@@ -349,142 +298,28 @@ std::vector<CaseKey> declare_keys() {
   return keys;
 }
 
-// A markdown table cell: '|' escaped.
-std::string cell(const std::string& text) {
-  std::string out;
-  for (const char ch : text) {
-    if (ch == '|') out += '\\';
-    out += ch;
-  }
-  return out;
-}
-
-// A number as the docs show it: 1e-8, not 1e-08.
-std::string docs_value(const std::string& toml) {
-  std::string text = toml;
-  const auto e = text.find('e');
-  if (e == std::string::npos) return text;
-  std::size_t digits = e + 1;
-  if (digits < text.size() && (text[digits] == '-' || text[digits] == '+')) ++digits;
-  while (digits + 1 < text.size() && text[digits] == '0') text.erase(digits, 1);
-  return text;
-}
-
-const char* type_name(KeyType type) {
-  switch (type) {
-    case KeyType::boolean:
-      return "boolean";
-    case KeyType::integer:
-      return "integer";
-    case KeyType::number:
-      return "float";
-    case KeyType::vector:
-      return "vector";
-    default:
-      return "string";
-  }
-}
-
 }  // namespace
 
-std::string KeyBounds::text(bool integer) const {
-  const bool has_lo = lo > -std::numeric_limits<double>::infinity();
-  const bool has_hi = hi < std::numeric_limits<double>::infinity();
-  const auto whole = [](double x) { return std::to_string(static_cast<long long>(x)); };
-  if (integer && has_lo && has_hi) return "in " + whole(lo) + ".." + whole(hi);
-  if (integer && has_lo && lo == 1 && !lo_open) return "> 0";
-  const std::string low = std::string(lo_open ? "> " : ">= ") + shortest_number(lo);
-  const std::string high = std::string(hi_open ? "< " : "<= ") + shortest_number(hi);
-  if (has_lo && has_hi) return low + " and " + high;
-  return has_lo ? low : has_hi ? high : "";
-}
-
-const std::vector<CaseKey>& case_keys() {
-  static const std::vector<CaseKey> keys = declare_keys();
+const std::vector<SettingKey>& case_keys() {
+  static const std::vector<SettingKey> keys = declare_keys();
   return keys;
 }
 
 const std::vector<std::string>& case_sections() {
   static const std::vector<std::string> sections = [] {
     std::vector<std::string> s;
-    for (const CaseKey& k : case_keys())
+    for (const SettingKey& k : case_keys())
       if (std::find(s.begin(), s.end(), k.section) == s.end()) s.push_back(k.section);
     return s;
   }();
   return sections;
 }
 
-std::string shortest_number(double x) {
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x);
-  return std::string(buffer, result.ptr);
-}
-
-std::string toml_float(double x) {
-  std::string text = shortest_number(x);
-  if (text.find_first_of(".e") == std::string::npos) text += ".0";
-  return text;
-}
-
-std::string toml_string(const std::string& s) {
-  std::string text = "\"";
-  for (const char ch : s) {
-    const auto code = static_cast<unsigned char>(ch);
-    if (ch == '"' || ch == '\\') {
-      text += '\\';
-      text += ch;
-    } else if (code < 0x20 || code == 0x7f) {
-      char escape[8];
-      std::snprintf(escape, sizeof escape, "\\u%04x", code);
-      text += escape;
-    } else {
-      text += ch;
-    }
-  }
-  return text + "\"";
-}
-
-std::string one_of(const std::vector<std::string>& allowed) {
-  std::string text = "must be one of ";
-  for (std::size_t i = 0; i < allowed.size(); ++i) text += (i ? ", " : "") + toml_string(allowed[i]);
-  return text;
-}
-
-std::string toml_value(const KeyValue& value, int dimension) {
-  struct Text {
-    int dimension;
-    std::string operator()(bool b) const { return b ? "true" : "false"; }
-    std::string operator()(std::int64_t i) const { return std::to_string(i); }
-    std::string operator()(double x) const { return toml_float(x); }
-    std::string operator()(const std::string& s) const { return toml_string(s); }
-    std::string operator()(const std::array<double, 3>& v) const {
-      std::string text = "[";
-      for (int k = 0; k < dimension; ++k) text += (k ? ", " : "") + toml_float(v[k]);
-      return text + "]";
-    }
-  };
-  return std::visit(Text{dimension}, value);
-}
-
 std::string key_reference(const std::string& section) {
   const CaseSpec defaults;
-  std::string table = "| Key | Type | Default | Allowed / meaning |\n|---|---|---|---|\n";
-  for (const CaseKey& k : case_keys()) {
-    if (k.section != section) continue;
-    const std::string type = std::string(type_name(k.type)) + (k.unit.empty() ? "" : " [" + k.unit + "]");
-    std::string shown_default = "required";
-    if (!k.required) shown_default = std::string(1, '`').append(docs_value(toml_value(k.get(defaults), 2))).append("`");
-    std::string allowed = k.bounds.text(k.type == KeyType::integer);
-    // The choices, unless the documentation names every one of them.
-    const bool named = std::all_of(k.choices.begin(), k.choices.end(), [&](const std::string& choice) {
-      return k.doc.find("`\"" + choice + "\"`") != std::string::npos;
-    });
-    if (!named)
-      for (std::size_t i = 0; i < k.choices.size(); ++i) allowed += (i ? ", `" : "`") + toml_string(k.choices[i]) + "`";
-    const std::string meaning = allowed.empty() ? k.doc : k.doc.empty() ? allowed : allowed + "; " + k.doc;
-    table += "| `" + k.name + "` | " + type + " | " + (k.default_note.empty() ? shown_default : k.default_note) +
-             " | " + cell(meaning) + " |\n";
-  }
+  std::string table = reference_head(false);
+  for (const SettingKey& k : case_keys())
+    if (k.section == section) table += reference_row(k, defaults, false);
   return table;
 }
 

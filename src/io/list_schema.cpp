@@ -1,19 +1,19 @@
-// The keys of [[materials]], [[loads]], [[probes]] and [periodic], declared once, and what all list keys
-// share: the resolved case's entries and the docs' tables (list_schema.hpp; the bodies' keys are in
-// list_schema_bodies.cpp, the machinery in list_declaration.hpp).
+// The keys of [[materials]], [[loads]], [[probes]] and [periodic], declared once (list_schema.hpp; the
+// bodies' keys are in list_schema_bodies.cpp, the builder in schema_declaration.hpp), and the lists'
+// entries and tables from the schema's writer and generator (schema.hpp).
 #include "io/list_schema.hpp"
 
-#include "io/list_declaration.hpp"
+#include "io/schema_declaration.hpp"
 
 namespace isph {
 
 namespace {
 
-using namespace list_declaration;
+using namespace schema_declaration;
 
-std::vector<ListKey<MaterialSpec>> declare_materials() {
+std::vector<SchemaKey<MaterialSpec>> declare_materials() {
   using M = MaterialSpec;
-  std::vector<ListKey<M>> keys;
+  std::vector<SchemaKey<M>> keys;
   const auto elastic = [](const M& m, int) { return m.model != MaterialModel::newtonian; };
   const auto not_elastic = [](const M& m, int) { return "only for an elastic model (" + is("model", m.model) + ")"; };
   add(
@@ -84,9 +84,9 @@ std::vector<ListKey<MaterialSpec>> declare_materials() {
   return keys;
 }
 
-std::vector<ListKey<LoadSpec>> declare_loads() {
+std::vector<SchemaKey<LoadSpec>> declare_loads() {
   using L = LoadSpec;
-  std::vector<ListKey<L>> keys;
+  std::vector<SchemaKey<L>> keys;
   // Only for loads of these types.
   const auto of = [](std::vector<LoadType> types) {
     std::string text, message;
@@ -162,9 +162,9 @@ bool is_identifier(const std::string& s) {
   });
 }
 
-std::vector<ListKey<ProbeSpec>> declare_probes() {
+std::vector<SchemaKey<ProbeSpec>> declare_probes() {
   using P = ProbeSpec;
-  std::vector<ListKey<P>> keys;
+  std::vector<SchemaKey<P>> keys;
   add(
       keys, "name", [](P & p) -> auto& { return p.name; })
       .required()
@@ -191,8 +191,8 @@ std::vector<ListKey<ProbeSpec>> declare_probes() {
   return keys;
 }
 
-std::vector<ListKey<PeriodicSpec>> declare_periodic() {
-  std::vector<ListKey<PeriodicSpec>> keys;
+std::vector<SchemaKey<PeriodicSpec>> declare_periodic() {
+  std::vector<SchemaKey<PeriodicSpec>> keys;
   static const char* const kAxes[] = {"x", "y", "z"};
   for (int k = 0; k < 3; ++k) {
     auto d = add(
@@ -215,111 +215,21 @@ std::vector<ListKey<PeriodicSpec>> declare_periodic() {
   return keys;
 }
 
-// ---------------------------------------------------------------------------------------------
-// Writing
-// ---------------------------------------------------------------------------------------------
-
-std::string inline_table(const std::vector<std::pair<std::string, std::string>>& entries) {
-  std::string text = "{ ";
-  for (std::size_t i = 0; i < entries.size(); ++i)
-    text += (i ? ", " : "") + entries[i].first + " = " + entries[i].second;
-  return text + " }";
-}
-
-template <class Item>
-std::vector<std::pair<std::string, std::string>> entries(const Item& item, const std::vector<ListKey<Item>>& keys,
-                                                         int dimension);
-
-std::string value_text(const FieldRef& field, int dimension) {
-  struct Text {
-    int d;
-    std::string operator()(double* x) const { return toml_float(*x); }
-    std::string operator()(std::string* s) const { return toml_string(*s); }
-    std::string operator()(Vec3* v) const { return toml_value(*v, d); }
-    std::string operator()(std::vector<double>* v) const {
-      std::string text = "[";
-      for (std::size_t i = 0; i < v->size(); ++i) text += (i ? ", " : "") + toml_float((*v)[i]);
-      return text + "]";
-    }
-    std::string operator()(Shape* s) const { return inline_table(entries(*s, shape_keys(), d)); }
-    std::string operator()(std::vector<Shape>* shapes) const {
-      std::string text = "[";
-      for (std::size_t i = 0; i < shapes->size(); ++i) text += (i ? ", " : "") + (*this)(&(*shapes)[i]);
-      return text + "]";
-    }
-    std::string operator()(MotionSpec* m) const { return inline_table(entries(*m, motion_keys(), d)); }
-    std::string operator()(InitialVelocitySpec* v) const {
-      return inline_table(entries(*v, initial_velocity_keys(), d));
-    }
-  };
-  return std::visit(Text{dimension}, field);
-}
-
-template <class Item>
-std::string key_text(const ListKey<Item>& key, const Item& item, int dimension) {
-  if (key.get_name) return toml_string(key.get_name(item));
-  return value_text(key.field(const_cast<Item&>(item)), dimension);  // read only
-}
-
-template <class Item>
-std::vector<std::pair<std::string, std::string>> entries(const Item& item, const std::vector<ListKey<Item>>& keys,
-                                                         int dimension) {
-  std::vector<std::pair<std::string, std::string>> out;
-  for (const auto& key : keys) {
-    if (key.applies && !key.applies(item, dimension)) continue;
-    if (key.written && !key.written(item)) continue;
-    out.emplace_back(key.name, key_text(key, item, dimension));
-  }
-  return out;
-}
-
-// ---------------------------------------------------------------------------------------------
-// The docs
-// ---------------------------------------------------------------------------------------------
-
-std::string cell(std::string text) {
-  std::string out;
-  for (char c : text) out += c == '|' ? std::string("\\|") : std::string(1, c);
-  return out;
-}
-
-template <class Item>
-std::string reference(const std::vector<ListKey<Item>>& keys) {
-  Item defaults{};
-  std::string table = "| Key | Type | For | Default | Allowed / meaning |\n|---|---|---|---|---|\n";
-  for (const auto& k : keys) {
-    const std::string type = k.type + (k.unit.empty() ? "" : " [" + k.unit + "]");
-    std::string shown = k.default_text;
-    if (shown.empty()) shown = k.required ? "required" : "`" + key_text(k, defaults, 2) + "`";
-    std::string allowed = k.bounds.text(false);
-    if (k.direction) allowed = "non-zero";
-    const bool named = std::all_of(k.choices.begin(), k.choices.end(), [&](const std::string& choice) {
-      return k.doc.find("`\"" + choice + "\"`") != std::string::npos;
-    });
-    if (!named)
-      for (std::size_t i = 0; i < k.choices.size(); ++i) allowed += (i ? ", `" : "`") + toml_string(k.choices[i]) + "`";
-    const std::string meaning = allowed.empty() ? k.doc : k.doc.empty() ? allowed : allowed + "; " + k.doc;
-    table += "| `" + k.name + "` | " + type + " | " + (k.for_text.empty() ? "all" : k.for_text) + " | " + shown +
-             " | " + cell(meaning) + " |\n";
-  }
-  return table;
-}
-
 }  // namespace
 
-const std::vector<ListKey<MaterialSpec>>& material_keys() {
+const std::vector<SchemaKey<MaterialSpec>>& material_keys() {
   static const auto keys = declare_materials();
   return keys;
 }
-const std::vector<ListKey<LoadSpec>>& load_keys() {
+const std::vector<SchemaKey<LoadSpec>>& load_keys() {
   static const auto keys = declare_loads();
   return keys;
 }
-const std::vector<ListKey<ProbeSpec>>& probe_keys() {
+const std::vector<SchemaKey<ProbeSpec>>& probe_keys() {
   static const auto keys = declare_probes();
   return keys;
 }
-const std::vector<ListKey<PeriodicSpec>>& periodic_keys() {
+const std::vector<SchemaKey<PeriodicSpec>>& periodic_keys() {
   static const auto keys = declare_periodic();
   return keys;
 }
@@ -347,14 +257,14 @@ const std::vector<std::string>& list_tables() {
 }
 
 std::string list_key_reference(const std::string& table) {
-  if (table == "materials") return reference(material_keys());
-  if (table == "bodies") return reference(body_keys());
-  if (table == "shape") return reference(shape_keys());
-  if (table == "initial_velocity") return reference(initial_velocity_keys());
-  if (table == "motion") return reference(motion_keys());
-  if (table == "loads") return reference(load_keys());
-  if (table == "probes") return reference(probe_keys());
-  if (table == "periodic") return reference(periodic_keys());
+  if (table == "materials") return reference(material_keys(), true);
+  if (table == "bodies") return reference(body_keys(), true);
+  if (table == "shape") return reference(shape_keys(), true);
+  if (table == "initial_velocity") return reference(initial_velocity_keys(), true);
+  if (table == "motion") return reference(motion_keys(), true);
+  if (table == "loads") return reference(load_keys(), true);
+  if (table == "probes") return reference(probe_keys(), true);
+  if (table == "periodic") return reference(periodic_keys(), true);
   return "";
 }
 

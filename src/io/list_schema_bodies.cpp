@@ -1,16 +1,16 @@
 // The keys of [[bodies]] and of the tables inside them (shape, initial_velocity, motion), declared once
-// (list_schema.hpp; the machinery: list_declaration.hpp).
-#include "io/list_declaration.hpp"
+// (list_schema.hpp; the machinery: schema_declaration.hpp).
+#include "io/schema_declaration.hpp"
 #include "io/stl_mesh.hpp"
 
 namespace isph {
 
 namespace {
 
-using namespace list_declaration;
+using namespace schema_declaration;
 
-std::vector<ListKey<Shape>> declare_shapes() {
-  std::vector<ListKey<Shape>> keys;
+std::vector<SchemaKey<Shape>> declare_shapes() {
+  std::vector<SchemaKey<Shape>> keys;
   const auto box = [](const Shape& s, int) { return s.type == ShapeType::rectangle || s.type == ShapeType::box; };
   const auto ball = [](const Shape& s, int) { return is_ball(s.type); };
   const auto wedge = [](const Shape& s, int) { return s.type == ShapeType::wedge; };
@@ -134,9 +134,9 @@ std::vector<ListKey<Shape>> declare_shapes() {
   return keys;
 }
 
-std::vector<ListKey<InitialVelocitySpec>> declare_initial_velocities() {
+std::vector<SchemaKey<InitialVelocitySpec>> declare_initial_velocities() {
   using V = InitialVelocitySpec;
-  std::vector<ListKey<V>> keys;
+  std::vector<SchemaKey<V>> keys;
   const auto uniform = [](const V& v, int) { return v.type == InitialVelocityType::uniform; };
   const auto mode = [](const V& v, int) { return v.type == InitialVelocityType::cantilever_mode; };
   const auto not_mode = [](const V& v, int) {
@@ -186,9 +186,9 @@ std::vector<ListKey<InitialVelocitySpec>> declare_initial_velocities() {
   return keys;
 }
 
-std::vector<ListKey<MotionSpec>> declare_motions() {
+std::vector<SchemaKey<MotionSpec>> declare_motions() {
   using M = MotionSpec;
-  std::vector<ListKey<M>> keys;
+  std::vector<SchemaKey<M>> keys;
   const auto profiled = [](const M& m, int) {
     return m.type == MotionType::translation || m.type == MotionType::rotation;
   };
@@ -275,9 +275,9 @@ std::vector<ListKey<MotionSpec>> declare_motions() {
   return keys;
 }
 
-std::vector<ListKey<BodySpec>> declare_bodies() {
+std::vector<SchemaKey<BodySpec>> declare_bodies() {
   using B = BodySpec;
-  std::vector<ListKey<B>> keys;
+  std::vector<SchemaKey<B>> keys;
   const auto structure = [](const B& b, int) { return b.kind == ParticleKind::structure; };
   const auto not_structure_spacing = [](const B& b, int) {
     return "only for kind = \"structure\"; fluid and walls take the case's dx (" + is("kind", b.kind) + ")";
@@ -378,19 +378,19 @@ std::vector<ListKey<BodySpec>> declare_bodies() {
 
 }  // namespace
 
-const std::vector<ListKey<BodySpec>>& body_keys() {
+const std::vector<SchemaKey<BodySpec>>& body_keys() {
   static const auto keys = declare_bodies();
   return keys;
 }
-const std::vector<ListKey<Shape>>& shape_keys() {
+const std::vector<SchemaKey<Shape>>& shape_keys() {
   static const auto keys = declare_shapes();
   return keys;
 }
-const std::vector<ListKey<InitialVelocitySpec>>& initial_velocity_keys() {
+const std::vector<SchemaKey<InitialVelocitySpec>>& initial_velocity_keys() {
   static const auto keys = declare_initial_velocities();
   return keys;
 }
-const std::vector<ListKey<MotionSpec>>& motion_keys() {
+const std::vector<SchemaKey<MotionSpec>>& motion_keys() {
   static const auto keys = declare_motions();
   return keys;
 }

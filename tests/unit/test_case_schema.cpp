@@ -78,36 +78,27 @@ std::string read_text(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-// Values to try for a key instead of its value `v` in the base case: valid for the key alone,
-// though a case's cross-key rules may refuse some.
-std::vector<KeyValue> candidates(const CaseKey& key, const KeyValue& v) {
-  std::vector<KeyValue> out;
-  switch (key.type) {
-    case KeyType::boolean:
-      out.emplace_back(!std::get<bool>(v));
-      break;
-    case KeyType::integer: {
-      const auto i = std::get<std::int64_t>(v);
-      for (const std::int64_t c : {i + 1, i - 1})
-        if (key.bounds.admits(static_cast<double>(c))) out.emplace_back(c);
-      break;
-    }
-    case KeyType::number: {
-      const double x = std::get<double>(v);
-      for (const double c : {2 * x, x / 2, 0.5, 2.0, 10.0})
-        if (c != x && key.bounds.admits(c)) out.emplace_back(c);
-      break;
-    }
-    case KeyType::vector:
-      out.emplace_back(std::array<double, 3>{1.0, -5.0, 0.0});
-      break;
-    case KeyType::text:
-      out.emplace_back(std::get<std::string>(v) + "_renamed");
-      break;
-    case KeyType::choice:
-      for (const std::string& c : key.choices)
-        if (c != std::get<std::string>(v)) out.emplace_back(c);
-      break;
+// Values to try for a key instead of its value in the base case (`text`, as the resolved case writes it):
+// valid for the key alone, though a case's cross-key rules may refuse some. TOML text each.
+std::vector<std::string> candidates(const SettingKey& key, const std::string& text) {
+  std::vector<std::string> out;
+  if (!key.choices.empty()) {
+    for (const std::string& c : key.choices)
+      if (toml_string(c) != text) out.push_back(toml_string(c));
+  } else if (key.type == "boolean") {
+    out.emplace_back(text == "true" ? "false" : "true");
+  } else if (key.type == "integer") {
+    const long long i = std::stoll(text);
+    for (const long long c : {i + 1, i - 1})
+      if (key.bounds.admits(static_cast<double>(c))) out.push_back(std::to_string(c));
+  } else if (key.type == "float") {
+    const double x = std::stod(text);
+    for (const double c : {2 * x, x / 2, 0.5, 2.0, 10.0})
+      if (c != x && key.bounds.admits(c)) out.push_back(toml_float(c));
+  } else if (key.type == "vector") {
+    out.push_back(toml_vector({1.0, -5.0, 0.0}, 2));
+  } else {
+    out.push_back(text.substr(0, text.size() - 1) + "_renamed\"");
   }
   return out;
 }
@@ -123,10 +114,10 @@ TEST_F(CaseSchema, DocsAreCurrent) {
 
 TEST_F(CaseSchema, EveryKeyIsDeclaredOnceAndDocumented) {
   std::set<std::string> paths;
-  for (const CaseKey& key : case_keys()) {
+  for (const SettingKey& key : case_keys()) {
     EXPECT_TRUE(paths.insert(key.path()).second) << key.path() << " is declared twice";
     EXPECT_FALSE(key.doc.empty()) << key.path() << " has no documentation";
-    if (key.type == KeyType::choice) {
+    if (!key.choices.empty()) {
       EXPECT_GE(key.choices.size(), 2u) << key.path();
     }
   }
@@ -141,10 +132,10 @@ TEST_F(CaseSchema, EveryKeyIsDeclaredOnceAndDocumented) {
 TEST_F(CaseSchema, EveryKeyRoundTripsFieldByField) {
   const std::string plate = kSource + "/cases/hydrostatic_plate.toml";
   const CaseSpec base = load_case(plate);
-  for (const CaseKey& key : case_keys()) {
+  for (const SettingKey& key : case_keys()) {
     int loaded = 0;
-    for (const KeyValue& value : candidates(key, key.get(base))) {
-      const std::string text = key.path() + "=" + toml_value(value, base.dimension);
+    for (const std::string& value : candidates(key, key_text(key, base, base.dimension))) {
+      const std::string text = key.path() + "=" + value;
       CaseSpec changed;
       try {
         changed = load_case(plate, {text});
@@ -152,7 +143,7 @@ TEST_F(CaseSchema, EveryKeyRoundTripsFieldByField) {
         continue;  // refused by a rule across keys
       }
       ++loaded;
-      EXPECT_TRUE(key.get(changed) == value) << "--set " << text << " was not read into the case";
+      EXPECT_EQ(key_text(key, changed, changed.dimension), value) << "--set " << text << " was not read into the case";
       expect_round_trip(changed, "--set " + text);
     }
     const bool fixed_by_bodies = key.section == "stages" || key.path() == "dimension";

@@ -1,18 +1,19 @@
 #pragma once
-// The declaration machinery of the list keys (list_schema.hpp), shared by the files that declare them:
-// list_schema.cpp (materials, loads, probes, [periodic]) and list_schema_bodies.cpp (bodies, their
-// shapes, initial velocities and motions). Internal to those files.
+// The builder of the schema's keys (schema.hpp), shared by the files that declare them: case_schema.cpp
+// (the settings), list_schema.cpp (materials, loads, probes, [periodic]) and list_schema_bodies.cpp
+// (bodies, their shapes, initial velocities and motions). Internal to those files.
 #include <algorithm>
 #include <type_traits>
 
 #include "io/list_schema.hpp"
 
-namespace isph::list_declaration {
+namespace isph::schema_declaration {
 
 using Vec3 = std::array<double, 3>;
 
 inline KeyBounds positive() { return {0, KeyBounds{}.hi, true, true}; }
 inline KeyBounds non_negative() { return {0}; }
+inline KeyBounds open_unit() { return {0, 1, true, true}; }
 
 inline std::string quoted(const std::string& name) { return toml_string(name); }
 
@@ -33,7 +34,7 @@ std::string is(const std::string& key, E value) {
 template <class Item>
 class Declaration {
  public:
-  explicit Declaration(ListKey<Item>& key) : key_(key) {}
+  explicit Declaration(SchemaKey<Item>& key) : key_(key) {}
   Declaration& unit(std::string u) { return key_.unit = std::move(u), *this; }
   Declaration& bounds(KeyBounds b) { return key_.bounds = b, *this; }
   Declaration& choices_in(std::function<std::vector<std::string>(int)> c) {
@@ -65,11 +66,13 @@ class Declaration {
   Declaration& doc(std::string d) { return key_.doc = std::move(d), *this; }
 
  private:
-  ListKey<Item>& key_;
+  SchemaKey<Item>& key_;
 };
 
 template <class T>
 constexpr const char* type_text() {
+  if constexpr (std::is_same_v<T, bool>) return "boolean";
+  if constexpr (std::is_same_v<T, int>) return "integer";
   if constexpr (std::is_same_v<T, double>) return "float";
   if constexpr (std::is_same_v<T, std::string>) return "string";
   if constexpr (std::is_same_v<T, Vec3>) return "vector";
@@ -81,11 +84,13 @@ constexpr const char* type_text() {
   return "";
 }
 
-// A key of an element: its type follows from the member `ref` returns (an enum's makes a choice key).
+// A key of an element (`section`: a setting's, "" for a list's): its type follows from the member `ref`
+// returns (an enum's makes a choice key).
 template <class Item, class Ref>
-Declaration<Item> add(std::vector<ListKey<Item>>& keys, std::string name, Ref ref) {
+Declaration<Item> add(std::vector<SchemaKey<Item>>& keys, std::string section, std::string name, Ref ref) {
   using T = std::remove_cvref_t<decltype(ref(std::declval<Item&>()))>;
-  ListKey<Item>& k = keys.emplace_back();
+  SchemaKey<Item>& k = keys.emplace_back();
+  k.section = std::move(section);
   k.name = std::move(name);
   if constexpr (std::is_enum_v<T>) {
     k.type = "string";
@@ -99,4 +104,9 @@ Declaration<Item> add(std::vector<ListKey<Item>>& keys, std::string name, Ref re
   return Declaration<Item>(k);
 }
 
-}  // namespace isph::list_declaration
+template <class Item, class Ref>
+Declaration<Item> add(std::vector<SchemaKey<Item>>& keys, std::string name, Ref ref) {
+  return add(keys, "", std::move(name), ref);
+}
+
+}  // namespace isph::schema_declaration
