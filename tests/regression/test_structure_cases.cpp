@@ -147,6 +147,12 @@ TEST(OutputContract, FilesHeadersAndSummary) {
   if (fs::exists(out / "snapshots")) {
     EXPECT_TRUE(fs::exists(out / "snapshots" / "snapshots.xmf"));
   }
+  // `isph check --resolved` prints, without running, what the run wrote as its resolved case
+  const auto resolved =
+      isph("check " + kCases + "oscillating_plate.toml --resolved --set dx=0.004 --set end_time=0.01 " +
+           "--set output.snapshot_interval=0.005");
+  EXPECT_EQ(resolved.status, 0);
+  EXPECT_EQ(resolved.output, read_file(out / "case.resolved.toml"));
   // the resolved configuration is a valid case that reproduces the run
   const auto again = isph("check " + (out / "case.resolved.toml").string());
   EXPECT_EQ(again.status, 0) << again.output;
