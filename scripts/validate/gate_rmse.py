@@ -1,11 +1,13 @@
 #!/usr/bin/python3
 """The elastic gate's tip against the reference curves (../shared/reference/antoci_2007_elastic_gate):
 RMSE of u_x and u_y per reference over the run (or up to --until), the peak u_x and its time, and the
-run's wall time. One line per run folder; --csv writes the table as CSV, --figure plots every run's tip
+run's wall time. One line per run folder; --against RUN adds each run's u_x and u_y RMSE against that run's
+tip (a convergence study: the finest run); --csv writes the table as CSV, --figure plots every run's tip
 against the references (u_x and u_y; --labels names the runs there). In a 3D run (the tip's u_z
 exists) the references' vertical u_y is compared with u_z, the vertical there.
 
-  /usr/bin/python3 scripts/validate/gate_rmse.py RUN [RUN ...] [--until T] [--csv FILE] [--figure PNG] [--labels A B ...]
+  /usr/bin/python3 scripts/validate/gate_rmse.py RUN [RUN ...] [--until T] [--against RUN] [--csv FILE]
+      [--figure PNG] [--labels A B ...]
 """
 import sys
 import argparse
@@ -40,12 +42,19 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("runs", nargs="+")
     ap.add_argument("--until", type=float, default=math.inf, help="RMSE up to this time [s]")
+    ap.add_argument("--against", help="also the RMSE of each run's tip against this run's")
     ap.add_argument("--csv", help="also write the table to this CSV file")
     ap.add_argument("--figure", help="also plot the runs' tips against the references (PNG)")
     ap.add_argument("--labels", nargs="+", help="the runs' names in the figure (default: their folders)")
     args = ap.parse_args()
     refs = references()
-    header = ["run"] + [f"u{c} {name} [mm]" for c, name in refs] + ["peak ux [mm]", "at [s]", "end [s]", "wall [s]"]
+    against = {}
+    if args.against:
+        a = read_probes(args.against)
+        vertical = "tip.uz" if "tip.uz" in a else "tip.uy"
+        against = {"x": np.column_stack([a["time"], a["tip.ux"]]), "y": np.column_stack([a["time"], a[vertical]])}
+    header = (["run"] + [f"u{c} {name} [mm]" for c, name in refs] + [f"u{c} against it [mm]" for c in against] +
+              ["peak ux [mm]", "at [s]", "end [s]", "wall [s]"])
     rows = []
     for run in args.runs:
         d = read_probes(run)
@@ -54,6 +63,9 @@ def main():
         row = [run]
         vertical = "tip.uz" if "tip.uz" in d else "tip.uy"
         for (comp, _), ref in refs.items():
+            u = d["tip.ux"] if comp == "x" else d[vertical]
+            row.append(f"{rmse_against(t[keep], u[keep], ref) * 1e3:.2f}")
+        for comp, ref in against.items():
             u = d["tip.ux"] if comp == "x" else d[vertical]
             row.append(f"{rmse_against(t[keep], u[keep], ref) * 1e3:.2f}")
         ux = d["tip.ux"]
