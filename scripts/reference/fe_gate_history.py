@@ -20,7 +20,9 @@ import csv
 
 import numpy as np
 
-sys.path[:0] = [os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, d) for d in ("lib", "validate", "reference")]  # the sibling folders' modules (scripts/README.md)
+# the sibling folders' modules (scripts/README.md)
+sys.path[:0] = [os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, d)
+                for d in ("lib", "validate", "reference")]
 from fe_beam import Beam, Q9Solid
 from gate_load import GateRun
 

@@ -18,7 +18,9 @@ import sys
 import matplotlib.pyplot as plt
 import numpy as np
 
-sys.path[:0] = [os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, d) for d in ("lib", "validate", "reference")]  # the sibling folders' modules (scripts/README.md)
+# the sibling folders' modules (scripts/README.md)
+sys.path[:0] = [os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, d)
+                for d in ("lib", "validate", "reference")]
 from report_common import (ROOT, closest, finished_run, fmt, pct, read_probes, read_snapshot, run_state, save,
                            snapshot_list, summary, table)
 

@@ -16,7 +16,9 @@ import tomllib
 import h5py
 import numpy as np
 
-sys.path[:0] = [os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, d) for d in ("lib", "validate", "reference")]  # the sibling folders' modules (scripts/README.md)
+# the sibling folders' modules (scripts/README.md)
+sys.path[:0] = [os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, d)
+                for d in ("lib", "validate", "reference")]
 from gate_load import STRUCTURE, GateRun
 from lattice_wall_force import lattice_factor
 from report_common import read_probes

@@ -16,7 +16,9 @@ import numpy as np
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-sys.path[:0] = [os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, d) for d in ("lib", "validate", "reference")]  # the sibling folders' modules (scripts/README.md)
+# the sibling folders' modules (scripts/README.md)
+sys.path[:0] = [os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, d)
+                for d in ("lib", "validate", "reference")]
 from fe_plate_3d import GRAVITY, HEAD, WATER_DENSITY, thin_plate  # noqa: E402
 from report_common import pct, read_probes, summary, table  # noqa: E402
 

@@ -56,7 +56,9 @@ from types import SimpleNamespace
 import matplotlib.pyplot as plt
 import numpy as np
 
-sys.path[:0] = [os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, d) for d in ("lib", "validate", "reference")]  # the sibling folders' modules (scripts/README.md)
+# the sibling folders' modules (scripts/README.md)
+sys.path[:0] = [os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, d)
+                for d in ("lib", "validate", "reference")]
 import coupled_report as cr
 import fluid_report as fr
 import structure_report as sr

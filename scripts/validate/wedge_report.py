@@ -16,7 +16,9 @@ import os
 
 import numpy as np
 
-sys.path[:0] = [os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, d) for d in ("lib", "validate", "reference")]  # the sibling folders' modules (scripts/README.md)
+# the sibling folders' modules (scripts/README.md)
+sys.path[:0] = [os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, d)
+                for d in ("lib", "validate", "reference")]
 from coupled_report import read_reference, rmse_against
 from report_common import ROOT, plt, read_probes, summary, table
 
