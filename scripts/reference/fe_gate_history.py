@@ -13,10 +13,10 @@ set beside the run's tip probe. The loop is open: the finite-element gate's moti
 
     /usr/bin/python3 scripts/reference/fe_gate_history.py RUN [--elements 40 4] [--csv FILE] [--figure FILE]
 """
-import sys
-import os
 import argparse
 import csv
+import os
+import sys
 
 import numpy as np
 

@@ -10,9 +10,9 @@ Pareto figure of the errors against the cost (core-seconds).
 
 The pressures are compared as sampled: the experiment's every 1 ms, the runs' every fluid step (2-3 ms).
 """
-import sys
 import argparse
 import os
+import sys
 
 import numpy as np
 

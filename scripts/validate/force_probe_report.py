@@ -7,10 +7,10 @@ acceleration of seed Eq. 48, summed over the gate).
 
     /usr/bin/python3 scripts/validate/force_probe_report.py RUNS [--figure docs/figures/force_probes.png]
 """
-import sys
-import os
 import argparse
 import glob
+import os
+import sys
 import tomllib
 
 import h5py

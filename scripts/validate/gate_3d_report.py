@@ -6,9 +6,9 @@ scripts/validate/gate_rmse.py's.
 
   /usr/bin/python3 scripts/validate/gate_3d_report.py "3D T/dx=4=runs/g3d" "2D T/dx=4=runs/g2d" --figure F.png
 """
-import sys
-import os
 import argparse
+import os
+import sys
 
 import matplotlib
 

@@ -9,11 +9,11 @@ exists) the references' vertical u_y is compared with u_z, the vertical there.
   /usr/bin/python3 scripts/validate/gate_rmse.py RUN [RUN ...] [--until T] [--against RUN] [--csv FILE]
       [--figure PNG] [--labels A B ...]
 """
-import sys
 import argparse
 import json
 import math
 import os
+import sys
 
 import numpy as np
 

@@ -6,9 +6,9 @@ first upward crossing of the mean after --from to the last one.
 
   /usr/bin/python3 scripts/validate/plate_3d_report.py runs/plate_3d --dry runs/plate_3d_dry --figure F.png
 """
-import sys
-import os
 import argparse
+import os
+import sys
 
 import matplotlib
 import numpy as np

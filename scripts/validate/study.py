@@ -38,8 +38,8 @@ Stability classes (kind = "stability_map"), thresholds below:
             `pressure_scale` = rho g H);
   stable    otherwise.
 """
-import sys
 import argparse
+import sys
 import concurrent.futures
 import contextlib
 import csv

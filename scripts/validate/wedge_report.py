@@ -10,9 +10,9 @@ The deflection is the probe's uy less the clamps' rigid motion, uy + V t (V = --
 references' pressures are in units of 10 MPa (Wagner's keel pressure rho V dc/dt = 8.0 MPa reads
 0.80), and so are the pressures printed here.
 """
-import sys
 import argparse
 import os
+import sys
 
 import numpy as np
 
