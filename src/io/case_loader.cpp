@@ -1,7 +1,6 @@
 #include "io/case_loader.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -189,8 +188,6 @@ void reject(Table& t, const std::string& key, const std::string& reason) {
 // The lists' elements: read from their declared keys (list_schema.hpp), then each one's cross-key rules
 // ---------------------------------------------------------------------------------------------
 
-// A value key: read into a copy, checked (bounds, a direction's length), then stored. Returns whether the
-// file gave a valid value.
 // An integer key: read as TOML's 64-bit integer, checked against its bounds and an int's range.
 template <class Item>
 bool read_value(Table& t, const SchemaKey<Item>& key, int& target, Need need) {
@@ -208,6 +205,8 @@ bool read_value(Table& t, const SchemaKey<Item>& key, int& target, Need need) {
   return true;
 }
 
+// A value key: read into a copy, checked (bounds, a direction's length), then stored. Returns whether the
+// file gave a valid value.
 template <class T, class Item>
 bool read_value(Table& t, const SchemaKey<Item>& key, T& target, Need need) {
   T value = target;

@@ -1,10 +1,7 @@
 #include "io/case_schema.hpp"
 
 #include <algorithm>
-#include <charconv>
-#include <cstdio>
 #include <stdexcept>
-#include <type_traits>
 
 #include "io/list_schema.hpp"
 #include "io/schema_declaration.hpp"

@@ -147,6 +147,18 @@ inline double rmse_against(const std::vector<double>& time, const std::vector<do
   return count ? std::sqrt(sum / count) : std::numeric_limits<double>::quiet_NaN();
 }
 
+// The mean of a probe column over the rows at or after `from` (and its standard deviation).
+inline double mean_over(const std::vector<double>& t, const std::vector<double>& v, double from,
+                        double* stddev = nullptr) {
+  double s = 0, s2 = 0;
+  int n = 0;
+  for (std::size_t k = 0; k < t.size(); ++k)
+    if (t[k] >= from) s += v[k], s2 += v[k] * v[k], ++n;
+  const double m = s / n;
+  if (stddev) *stddev = std::sqrt(std::max(0.0, s2 / n - m * m));
+  return m;
+}
+
 inline std::string read_file(const fs::path& file) {
   std::ifstream in(file);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};

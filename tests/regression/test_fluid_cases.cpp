@@ -11,16 +11,6 @@
 
 namespace {
 
-double mean_over(const std::vector<double>& t, const std::vector<double>& v, double from, double* stddev = nullptr) {
-  double s = 0, s2 = 0;
-  int n = 0;
-  for (std::size_t k = 0; k < t.size(); ++k)
-    if (t[k] >= from) s += v[k], s2 += v[k] * v[k], ++n;
-  const double m = s / n;
-  if (stddev) *stddev = std::sqrt(std::max(0.0, s2 / n - m * m));
-  return m;
-}
-
 // Two columns of a whitespace table with '#' comments.
 std::vector<std::array<double, 2>> read_table(const fs::path& file) {
   std::ifstream in(file);
