@@ -15,6 +15,13 @@ enum class FluidKind : unsigned char { fluid = 0, wall = 1, structure = 2 };
 // Free-surface classes of seed 001 Fig. 2.
 enum class SurfaceClass : unsigned char { interior = 0, near_surface = 1, surface = 2, splash = 3 };
 
+// The PPE row of an open boundary's buffer particles (sim/open_boundary.hpp): an outlet's is Dirichlet
+// at its pressure; an inlet's is a wall row.
+struct OpenZoneRow {
+  bool outlet = false;
+  Real pressure = 0;
+};
+
 template <int D>
 struct FluidView {
   OperatorView<D> op;  // positions, volumes, CSR neighbours, kernel, periodicity
@@ -24,9 +31,14 @@ struct FluidView {
   const Vec<D>* wall_normal;        // walls: unit normal of the nearest wall surface, into the fluid
   const Real* wall_depth;           // walls: distance below that surface
   Real dx;
+  const Index* open_zone = nullptr;        // buffer particles: their open boundary (-1: none); null without any
+  const OpenZoneRow* open_rows = nullptr;  // per open boundary
 
   ISPH_HD bool is_fluid(Index a) const { return kind[a] == FluidKind::fluid; }
   ISPH_HD bool is_structure(Index a) const { return kind[a] == FluidKind::structure; }
+  // An open boundary's buffer particle: it carries the flow's velocity, not a wall's.
+  ISPH_HD bool is_open(Index a) const { return open_zone && open_zone[a] >= 0; }
+  ISPH_HD bool is_outlet(Index a) const { return is_open(a) && open_rows[open_zone[a]].outlet; }
 
   // How much wall particle w stands in for fluid around fluid particle a, in [0, 1]: the presence of a
   // fluid particle at w's mirror image across its wall surface, m = x_w + 2 d_w n_w, judged from a's
@@ -69,15 +81,17 @@ struct FluidView {
   ISPH_HD Real beyond_surface(Index a, Index b) const { return dot(op.r(a, b), wall_normal[b]) - wall_depth[b]; }
 
   // Weight of neighbour b in the free-surface measures of fluid particle a (div r, grad Psi).
-  ISPH_HD Real surface_weight(Index a, Index b) const { return is_fluid(b) ? 1 : wall_wetness(a, b); }
+  ISPH_HD Real surface_weight(Index a, Index b) const { return is_fluid(b) || is_open(b) ? 1 : wall_wetness(a, b); }
 
   // The velocity a fluid particle a sees at neighbour b. For a wall particle this is the no-slip
   // extension of Morris et al. (1997, J. Comput. Phys. 136:214): u_b = U_w - (d_b / d_a)(u_a - U_w),
   // with d_b the wall particle's depth and d_a the fluid particle's distance from the same wall
   // surface (at least dx/2), which extends a velocity profile that is linear in the wall-normal
   // distance and equals U_w on the wall exactly, so the viscous term of a linear shear is zero.
+  // An open boundary's buffer particle is seen with its own velocity.
   ISPH_HD Vec<D> velocity_seen(Index a, Index b, const Vec<D>* u) const {
     if (is_fluid(b)) return u[b];
+    if (is_open(b)) return wall_velocity[b];
     const Vec<D> uw = wall_velocity[b];
     const Real da = fmax(beyond_surface(a, b), 0.5 * dx);
     return uw - (wall_depth[b] / da) * (u[a] - uw);
@@ -89,6 +103,7 @@ struct FluidView {
   // shifting), not where the wall's shear acts (the viscous term).
   ISPH_HD Vec<D> velocity_mirrored(Index a, Index b, const Vec<D>* u) const {
     if (is_fluid(b)) return u[b];
+    if (is_open(b)) return wall_velocity[b];
     const Vec<D> n = wall_normal[b];
     const Vec<D> rel = u[a] - wall_velocity[b];
     return wall_velocity[b] + rel - (2 * dot(rel, n)) * n;

@@ -36,7 +36,8 @@
 //                 still water), and as both P and S hold for a hydrostatic field, so does every blend
 //                 (with "zero", particles with 0 < alpha < 1, e.g. at the corner of a free surface and
 //                 a wall, get a pressure alpha times too small).
-// Splash particles (and surface particles without a normal) get p = 0.
+// Splash particles (and surface particles without a normal) get p = 0; an outlet's buffer particles
+// get its pressure (sim/open_boundary.hpp).
 //
 // Wall row (a wall or structure particle with fluid neighbours): the pressure extrapolation of Adami, Hu & Adams
 // (2012, J. Comput. Phys. 231:7057), solved together with the fluid rather than after it:
@@ -112,6 +113,10 @@ struct PpeRowFill {
     rhs[a] = 0;
     wall_moment[a] = Vec<D>::zero();
     if (a == pinned || cls[a] == SurfaceClass::splash) return;
+    if (v.is_outlet(a)) {  // an outlet's buffer: p = its pressure (sim/open_boundary.hpp)
+      rhs[a] = v.open_rows[v.open_zone[a]].pressure;
+      return;
+    }
     if (v.is_fluid(a))
       fluid_row(a, begin, end, row);
     else

@@ -74,6 +74,11 @@ constexpr EnumName<LoadType> kLoadTypeNames[] = {
     {LoadType::edge, "edge"}, {LoadType::traction, "traction"}, {LoadType::point, "point"}, {LoadType::body, "body"}};
 constexpr std::span<const EnumName<LoadType>> enum_names(LoadType) { return kLoadTypeNames; }
 
+enum class OpenBoundaryType { inlet, outlet };
+constexpr EnumName<OpenBoundaryType> kOpenBoundaryTypeNames[] = {{OpenBoundaryType::inlet, "inlet"},
+                                                                 {OpenBoundaryType::outlet, "outlet"}};
+constexpr std::span<const EnumName<OpenBoundaryType>> enum_names(OpenBoundaryType) { return kOpenBoundaryTypeNames; }
+
 enum class ProbeType { displacement, structure_pressure, pressure, velocity, front, max_speed, water_level, force };
 constexpr EnumName<ProbeType> kProbeTypeNames[] = {{ProbeType::displacement, "displacement"},
                                                    {ProbeType::structure_pressure, "structure_pressure"},
@@ -242,6 +247,25 @@ struct ProbeSpec {
   bool operator==(const ProbeSpec&) const = default;
 };
 
+// An open boundary of the fluid (ISPH; sim/open_boundary.hpp): a plane through `point` with the unit
+// `normal` into the fluid, and behind it a buffer of `layers` particle spacings, filled by the fluid
+// bodies. An inlet's buffer particles move at the prescribed velocity, normal to the plane, and become
+// fluid as they cross it; each is replaced by a new one a buffer's thickness behind. Fluid crossing an
+// outlet's plane joins its buffer, where the pressure is `pressure` and the velocity stays the one it
+// crossed with; it is removed at the buffer's far side.
+struct OpenBoundarySpec {
+  std::string name;
+  OpenBoundaryType type = OpenBoundaryType::inlet;
+  std::array<double, 3> point{};
+  std::array<double, 3> normal{};
+  int layers = 0;              // buffer thickness in particle spacings; 0: the kernel's support plus one
+  std::string velocity = "0";  // inlet: the inflow speed [m/s], an expression of x, y, z, t (core/expression.hpp)
+  double flow_rate = 0.0;      // inlet: when > 0, `velocity` is scaled to carry this flow [m^2/s in 2D, m^3/s]
+  double ramp_time = 0.0;      // inlet: the speed times (1 - cos(pi t / ramp_time)) / 2 until ramp_time [s]
+  double pressure = 0.0;       // outlet [Pa]
+  bool operator==(const OpenBoundarySpec&) const = default;
+};
+
 struct KernelSpec {
   KernelType type = KernelType::cubic_spline;
   double h_factor = 1.2;   // h = h_factor * dx (seed 001 uses 1.2)
@@ -392,6 +416,7 @@ struct CaseSpec {
   std::vector<BodySpec> bodies;
   std::vector<LoadSpec> loads;
   std::vector<ProbeSpec> probes;
+  std::vector<OpenBoundarySpec> open_boundaries;
   std::string resolved_toml;  // the configuration as run (written to case.resolved.toml)
   bool operator==(const CaseSpec&) const = default;
 };

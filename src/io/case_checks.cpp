@@ -211,6 +211,13 @@ void check_lists(CaseSpec& c, Context& ctx) {
         ctx.problem(path,
                     "a force probe needs a wall or structure body; " + toml_string(b.name) + " is of kind = \"fluid\"");
   }
+  check_unique_names(c.open_boundaries, "open_boundaries", ctx);
+  for (std::size_t i = 0; i < c.open_boundaries.size(); ++i) {
+    if (!c.stages.fluid)
+      ctx.problem(index_path("open_boundaries", i), "open boundaries need stages.fluid = true");
+    else if (c.fluid.model != FluidMethod::isph)
+      ctx.problem(index_path("open_boundaries", i), "open boundaries are for fluid.model = \"isph\" only");
+  }
   check_stages(c, ctx);
 }
 

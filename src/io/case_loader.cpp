@@ -324,6 +324,7 @@ void read_fields(Table& t, InitialVelocitySpec& v) { read_item(t, v, initial_vel
 void read_fields(Table& t, MotionSpec& m) { read_item(t, m, motion_keys()); }
 void read_fields(Table& t, LoadSpec& l) { read_item(t, l, load_keys()); }
 void read_fields(Table& t, ProbeSpec& p) { read_item(t, p, probe_keys()); }
+void read_fields(Table& t, OpenBoundarySpec& o) { read_item(t, o, open_boundary_keys()); }
 void read_fields(Table& t, PeriodicSpec& p) { read_item(t, p, periodic_keys()); }
 
 // Exactly one of youngs_modulus and bulk_modulus K; from K, E = 3K(1 - 2 nu). An unknown model leaves the
@@ -435,6 +436,7 @@ void read_fields(Table& t, CaseSpec& c) {
   t.read("bodies", c.bodies);
   t.read("loads", c.loads);
   t.read("probes", c.probes);
+  t.read("open_boundaries", c.open_boundaries);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -465,6 +467,7 @@ std::string resolved_toml(const CaseSpec& c) {
   for (const auto& b : c.bodies) write_element(out, "bodies", body_entries(b, d));
   for (const auto& l : c.loads) write_element(out, "loads", load_entries(l, d));
   for (const auto& p : c.probes) write_element(out, "probes", probe_entries(p, d));
+  for (const auto& o : c.open_boundaries) write_element(out, "open_boundaries", open_boundary_entries(o, d));
   return out.str();
 }
 

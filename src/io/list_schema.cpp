@@ -1,8 +1,9 @@
-// The keys of [[materials]], [[loads]], [[probes]] and [periodic], declared once (list_schema.hpp; the
-// bodies' keys are in list_schema_bodies.cpp, the builder in schema_declaration.hpp), and the lists'
-// entries and tables from the schema's writer and generator (schema.hpp).
+// The keys of [[materials]], [[loads]], [[probes]], [[open_boundaries]] and [periodic], declared once (list_schema.hpp;
+// the bodies' keys are in list_schema_bodies.cpp, the builder in schema_declaration.hpp), and the lists' entries and
+// tables from the schema's writer and generator (schema.hpp).
 #include "io/list_schema.hpp"
 
+#include "core/expression.hpp"
 #include "io/schema_declaration.hpp"
 
 namespace isph {
@@ -98,11 +99,6 @@ std::vector<SchemaKey<LoadSpec>> declare_loads() {
         [types](const L& l, int) { return std::find(types.begin(), types.end(), l.type) != types.end(); }, text,
         [message](const L& l, int) { return "only for type = " + message + " (" + is("type", l.type) + ")"; }};
   };
-  const auto only = [](Declaration<L> d, auto rule) -> Declaration<L> {
-    auto [when, text, why] = rule;
-    d.only(when, text, why);
-    return d;
-  };
   add(
       keys, "type", [](L & l) -> auto& { return l.type; })
       .required()
@@ -191,6 +187,79 @@ std::vector<SchemaKey<ProbeSpec>> declare_probes() {
   return keys;
 }
 
+std::vector<SchemaKey<OpenBoundarySpec>> declare_open_boundaries() {
+  using O = OpenBoundarySpec;
+  std::vector<SchemaKey<O>> keys;
+  const auto for_type = [](OpenBoundaryType type) {
+    return std::tuple{[type](const O& o, int) { return o.type == type; }, name_of(type),
+                      [type](const O& o, int) {
+                        return "only for type = " + quoted(name_of(type)) + " (" + is("type", o.type) + ")";
+                      }};
+  };
+  add(
+      keys, "name", [](O & o) -> auto& { return o.name; })
+      .required()
+      .doc("unique among open boundaries");
+  add(
+      keys, "type", [](O & o) -> auto& { return o.type; })
+      .required()
+      .discriminator()
+      .doc(R"(`"inlet"` (a prescribed velocity) or `"outlet"` (a prescribed pressure))");
+  add(
+      keys, "point", [](O & o) -> auto& { return o.point; })
+      .unit("m")
+      .required()
+      .doc("a point of the boundary's plane, inside the walls' bounding box");
+  add(
+      keys, "normal", [](O & o) -> auto& { return o.normal; })
+      .required()
+      .check([](const O& o, int d) -> std::string {
+        double n2 = 0;
+        for (int k = 0; k < d; ++k) n2 += o.normal[k] * o.normal[k];
+        return n2 > 0 ? "" : "must not be zero";
+      })
+      .doc("the plane's normal, pointing into the fluid (it is normalised); the buffer lies behind the plane");
+  add(
+      keys, "layers", [](O & o) -> auto& { return o.layers; })
+      .bounds(non_negative())
+      .default_text("the kernel's support over dx, rounded up, plus one")
+      .doc("the buffer's thickness in particle spacings; at least the kernel's support");
+  only(add(
+           keys, "velocity", [](O & o) -> auto& { return o.velocity; })
+           .required()
+           .check([](const O& o, int) -> std::string {
+             try {
+               Expression::parse(o.velocity);
+               return "";
+             } catch (const ExpressionError& e) {
+               return e.what();
+             }
+           }),
+       for_type(OpenBoundaryType::inlet))
+      .unit("m/s")
+      .doc(
+          "the inflow speed along the normal, an expression of x, y, z and t (e.g. "
+          "`\"1.5 * 4 * y * (0.41 - y) / 0.41^2\"`; docs/CASES.md lists its operators and functions)");
+  only(add(
+           keys, "flow_rate", [](O & o) -> auto& { return o.flow_rate; })
+           .bounds(non_negative()),
+       for_type(OpenBoundaryType::inlet))
+      .unit("m²/s (2D), m³/s (3D)")
+      .doc("when > 0, the velocity's shape is scaled so that the buffer carries this flow across the plane");
+  only(add(
+           keys, "ramp_time", [](O & o) -> auto& { return o.ramp_time; })
+           .bounds(non_negative()),
+       for_type(OpenBoundaryType::inlet))
+      .unit("s")
+      .doc("the speed grows as (1 − cos(π t / ramp_time)) / 2 until ramp_time (0: at once)");
+  only(add(
+           keys, "pressure", [](O & o) -> auto& { return o.pressure; }),
+       for_type(OpenBoundaryType::outlet))
+      .unit("Pa")
+      .doc("the pressure of the outlet's buffer");
+  return keys;
+}
+
 std::vector<SchemaKey<PeriodicSpec>> declare_periodic() {
   std::vector<SchemaKey<PeriodicSpec>> keys;
   static const char* const kAxes[] = {"x", "y", "z"};
@@ -229,6 +298,10 @@ const std::vector<SchemaKey<ProbeSpec>>& probe_keys() {
   static const auto keys = declare_probes();
   return keys;
 }
+const std::vector<SchemaKey<OpenBoundarySpec>>& open_boundary_keys() {
+  static const auto keys = declare_open_boundaries();
+  return keys;
+}
 const std::vector<SchemaKey<PeriodicSpec>>& periodic_keys() {
   static const auto keys = declare_periodic();
   return keys;
@@ -246,13 +319,16 @@ std::vector<std::pair<std::string, std::string>> load_entries(const LoadSpec& l,
 std::vector<std::pair<std::string, std::string>> probe_entries(const ProbeSpec& p, int d) {
   return entries(p, probe_keys(), d);
 }
+std::vector<std::pair<std::string, std::string>> open_boundary_entries(const OpenBoundarySpec& o, int d) {
+  return entries(o, open_boundary_keys(), d);
+}
 std::vector<std::pair<std::string, std::string>> periodic_entries(const PeriodicSpec& p, int d) {
   return entries(p, periodic_keys(), d);
 }
 
 const std::vector<std::string>& list_tables() {
-  static const std::vector<std::string> tables = {"materials", "bodies", "shape",  "initial_velocity",
-                                                  "motion",    "loads",  "probes", "periodic"};
+  static const std::vector<std::string> tables = {
+      "materials", "bodies", "shape", "initial_velocity", "motion", "loads", "probes", "open_boundaries", "periodic"};
   return tables;
 }
 
@@ -264,6 +340,7 @@ std::string list_key_reference(const std::string& table) {
   if (table == "motion") return reference(motion_keys(), true);
   if (table == "loads") return reference(load_keys(), true);
   if (table == "probes") return reference(probe_keys(), true);
+  if (table == "open_boundaries") return reference(open_boundary_keys(), true);
   if (table == "periodic") return reference(periodic_keys(), true);
   return "";
 }

@@ -69,6 +69,14 @@ class Declaration {
   SchemaKey<Item>& key_;
 };
 
+// Declaration::only from a rule (when, for_text, not_for) that several keys of a list share.
+template <class Item, class Rule>
+Declaration<Item> only(Declaration<Item> d, const Rule& rule) {
+  const auto& [when, text, why] = rule;
+  d.only(when, text, why);
+  return d;
+}
+
 template <class T>
 constexpr const char* type_text() {
   if constexpr (std::is_same_v<T, bool>) return "boolean";

@@ -169,7 +169,7 @@ struct Project {
   ISPH_HD void operator()(Index a) const {
     if (!v.is_fluid(a)) return;
     Vec<D> u = u_star[a] - (dt / density) * grad_p[a];
-    const auto faced = [&](Index b) { return !v.is_fluid(b) && norm2(v.wall_normal[b]) > 0; };
+    const auto faced = [&](Index b) { return !v.is_fluid(b) && !v.is_open(b) && norm2(v.wall_normal[b]) > 0; };
     Real r2;
     const Index nearest = v.nearest_neighbour(a, faced, r2);
     for (Index k = v.op.nbr_offset[a]; k < v.op.nbr_offset[a + 1]; ++k) {

@@ -199,8 +199,10 @@ Index IsphSolver<D>::detect_free_surface(const FluidView<D>& v, const FluidView<
                                    .cls = detected_.data(),
                                    .alpha = alpha_.data()});
   parallel_for(exec_, n, NearSurfaceDetection<D>{v, detected_.data(), cls_.data()});
-  // p is defined up to a constant without a Dirichlet row: fix it at the fluid particle of lowest id.
-  if (parallel_reduce(exec_, n, Index{0}, DirichletRow{particles_.kind.data(), alpha_.data()}, IntegerSum{}) == 0)
+  // p is defined up to a constant without a Dirichlet row (an outlet's are): fix it at the fluid particle
+  // of lowest id.
+  if (!particles_.has_outlet() &&
+      parallel_reduce(exec_, n, Index{0}, DirichletRow{particles_.kind.data(), alpha_.data()}, IntegerSum{}) == 0)
     pinned = lowest_id_particle(exec_, n, IsFluid{particles_.kind.data()}, particles_.id.data());
   parallel_for(exec_, n, PressureVolume<D>{v, alpha_.data(), pressure_volume_.data()});
   if (kernel_correction_) parallel_for(exec_, n, GradientCorrection<D>{pv.op, L_.data()});
@@ -327,6 +329,7 @@ void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
   else if (wall_force_)
     timer.time("wall_force", [&] { boundary_pressure_force(true, FluidKind::wall); });
   particles_.time += dt;
+  if (!particles_.open_zones().empty()) timer.time("open_boundaries", [&] { particles_.exchange_open_boundaries(dt); });
 }
 
 // Eqs. 18-19: projection and position update.

@@ -30,6 +30,7 @@ template <int D>
 ParticleSet<D>::ParticleSet(FluidSetup<D>& s)
     : exec_{s.device},
       motions_(std::move(s.motions)),
+      open_zones_(std::move(s.open_zones)),
       density_(s.density),
       dx_(s.dx),
       kernels_(s.kernels),
@@ -43,6 +44,7 @@ ParticleSet<D>::ParticleSet(FluidSetup<D>& s)
   if (s.motion.empty()) s.motion.assign(n, -1);
   if (s.body.empty()) s.body.assign(n, -1);
   if (s.level.empty()) s.level.assign(n, static_cast<unsigned char>(s.fluid_level));
+  if (s.open_zone.empty()) s.open_zone.assign(n, -1);
   const bool managed = exec_.device == Device::cuda;
   position = state_copy(s.x, managed);
   velocity = state_copy(s.u, managed);
@@ -57,6 +59,7 @@ ParticleSet<D>::ParticleSet(FluidSetup<D>& s)
   structure_index = state_copy(s.structure_index, managed);
   motion = state_copy(s.motion, managed);
   body = state_copy(s.body, managed);
+  open_zone = state_copy(s.open_zone, managed);
   reference_position = position;
   wall_acceleration = boundary_force = array(Vec<D>::zero());
   pressure = array(Real{0});
@@ -67,6 +70,11 @@ ParticleSet<D>::ParticleSet(FluidSetup<D>& s)
   fluid_count_ = static_cast<Index>(std::count(s.kind.begin(), s.kind.end(), FluidKind::fluid));
   wall_count_ = static_cast<Index>(std::count(s.kind.begin(), s.kind.end(), FluidKind::wall));
   structure_volume_ = StateVector<Real>(allocator<Real>());
+  open_rows_ = StateVector<OpenZoneRow>(allocator<OpenZoneRow>());
+  for (const OpenZone<D>& z : open_zones_) open_rows_.push_back({z.outlet, z.pressure});
+  open_flows_.assign(open_zones_.size(), {});
+  for (std::size_t k = 0; k < n; ++k) next_id_ = std::max(next_id_, s.id[k] + 1);
+  prescribe_inflow();
   for (std::size_t k = 0; k < n; ++k)
     if (const Index i = s.structure_index[k]; i >= 0) {
       if (structure_volume_.size() <= static_cast<std::size_t>(i)) structure_volume_.resize(i + 1, 0);
@@ -84,7 +92,16 @@ FluidView<D> ParticleSet<D>::view() const {
   const Index* index = neighbours_.index.data();
   const OperatorView<D> op{size(), position.data(), volume.data(), neighbour_offset(),
                            index,  kernels_,        period_,       kernels_.levels > 1 ? level.data() : nullptr};
-  return {op, kind.data(), wall_velocity.data(), wall_acceleration.data(), wall_normal.data(), wall_depth.data(), dx_};
+  const bool open = !open_zones_.empty();
+  return {op,
+          kind.data(),
+          wall_velocity.data(),
+          wall_acceleration.data(),
+          wall_normal.data(),
+          wall_depth.data(),
+          dx_,
+          open ? open_zone.data() : nullptr,
+          open ? open_rows_.data() : nullptr};
 }
 
 template <int D>
@@ -109,7 +126,7 @@ void ParticleSet<D>::reorder(const Index* order, Index count) {
                   &reference_position, &boundary_force})
     permute(*v, order, count);
   for (auto* v : {&pressure, &volume, &wall_depth}) permute(*v, order, count);
-  for (auto* v : {&id, &structure_index, &motion, &body}) permute(*v, order, count);
+  for (auto* v : {&id, &structure_index, &motion, &body, &open_zone}) permute(*v, order, count);
   permute(kind, order, count);
   permute(level, order, count);
   for (const auto& follow : followers_) follow(order, count);
@@ -133,6 +150,107 @@ Index ParticleSet<D>::remove_fluid_outside(const Vec<D>& lo, const Vec<D>& hi, c
 }
 
 template <int D>
+bool ParticleSet<D>::has_outlet() const {
+  return std::any_of(open_zones_.begin(), open_zones_.end(), [](const OpenZone<D>& z) { return z.outlet; });
+}
+
+template <int D>
+void ParticleSet<D>::prescribe_inflow() {
+  constexpr Real dt = 1e-6;  // the acceleration by a central difference in time
+  for (Index a = 0; a < size(); ++a) {
+    const Index z = open_zone[a];
+    if (z < 0 || open_zones_[z].outlet) continue;
+    const OpenZone<D>& zone = open_zones_[z];
+    const Real u = zone.speed(position[a], time);
+    velocity[a] = wall_velocity[a] = u * zone.normal;
+    if (zone.steady_at(time)) {
+      wall_acceleration[a] = Vec<D>::zero();
+      continue;
+    }
+    const Real before = zone.speed(position[a], std::max(time - dt, Real{0})),
+               after = zone.speed(position[a], time + dt);
+    wall_acceleration[a] = ((after - before) / (time + dt - std::max(time - dt, Real{0}))) * zone.normal;
+  }
+}
+
+template <int D>
+void ParticleSet<D>::count_kinds() {
+  fluid_count_ = wall_count_ = 0;
+  for (Index a = 0; a < size(); ++a) {
+    fluid_count_ += kind[a] == FluidKind::fluid;
+    wall_count_ += kind[a] == FluidKind::wall;
+  }
+}
+
+// Sequential and in particle order, so that the new particles' ids and places repeat exactly.
+template <int D>
+void ParticleSet<D>::exchange_open_boundaries(Real dt) {
+  if (open_zones_.empty()) return;
+  const Index n = size();
+  StateVector<Index> order(allocator<Index>());  // the particles kept, then the inlet crossers' copies
+  std::vector<Index> entered;                    // inlet crossers, by their index in `order`
+  order.reserve(n);
+  for (Index a = 0; a < n; ++a) {
+    Index z = open_zone[a];
+    if (z < 0 && kind[a] == FluidKind::fluid)  // fluid that crossed an outlet's plane joins its buffer
+      for (std::size_t k = 0; k < open_zones_.size() && z < 0; ++k)
+        if (open_zones_[k].outlet && open_zones_[k].depth(position[a]) > 0) {
+          z = open_zone[a] = static_cast<Index>(k);
+          kind[a] = FluidKind::wall;
+          wall_velocity[a] = velocity[a];
+          wall_acceleration[a] = Vec<D>::zero();
+          wall_normal[a] = reference_normal[a] = open_zones_[k].normal;
+          ++open_flows_[k].crossed;
+          open_flows_[k].volume_crossed += volume[a];
+        }
+    if (z < 0) {
+      order.push_back(a);
+      continue;
+    }
+    const OpenZone<D>& zone = open_zones_[z];
+    OpenZoneFlow& flow = open_flows_[z];
+    const Real depth = zone.depth(position[a]);
+    wall_depth[a] = depth;
+    // The energy carried across the plane, (p + rho |u|^2 / 2 - rho g·x) u·n per unit area, as the
+    // buffer's mean over its thickness: the boundary work of the energy books.
+    const Vec<D>& u = velocity[a];
+    wall_work += dt * volume[a] / zone.thickness * dot(u, zone.normal) *
+                 (pressure[a] + density_ * (0.5 * norm2(u) - dot(gravity_, position[a])));
+    if (zone.outlet) {
+      if (depth > zone.thickness)
+        ++flow.removed;
+      else
+        order.push_back(a);
+      continue;
+    }
+    flow.volume_prescribed += dt * volume[a] * dot(wall_velocity[a], zone.normal) / zone.thickness;
+    if (depth < 0) {  // into the fluid: a copy takes its place a buffer's thickness behind
+      entered.push_back(static_cast<Index>(order.size()));
+      ++flow.crossed;
+      flow.volume_crossed += volume[a];
+    }
+    order.push_back(a);
+  }
+  const Index kept = static_cast<Index>(order.size());
+  for (const Index k : entered) order.push_back(order[k]);
+  if (kept != n || !entered.empty()) reorder(order.data(), static_cast<Index>(order.size()));
+  for (std::size_t e = 0; e < entered.size(); ++e) {
+    const Index a = entered[e], copy = kept + static_cast<Index>(e);
+    const OpenZone<D>& zone = open_zones_[open_zone[a]];
+    kind[a] = FluidKind::fluid;
+    open_zone[a] = -1;
+    wall_normal[a] = reference_normal[a] = wall_acceleration[a] = Vec<D>::zero();
+    wall_depth[a] = 0;
+    position[copy] = reference_position[copy] = position[copy] - zone.thickness * zone.normal;
+    wall_depth[copy] = zone.depth(position[copy]);
+    id[copy] = next_id_++;
+  }
+  prescribe_inflow();
+  count_kinds();
+  if (static_cast<Index>(order.size()) != n) build_neighbours(false);  // no stale list between now and the next step
+}
+
+template <int D>
 void ParticleSet<D>::restore(const SnapshotData& snapshot) {
   const SnapshotField &kinds = snapshot.field("kind"), &x = snapshot.field("position"), &u = snapshot.field("velocity"),
                       &p = snapshot.field("pressure");
@@ -140,27 +258,60 @@ void ParticleSet<D>::restore(const SnapshotData& snapshot) {
   const auto mismatch = [&](const std::string& what) {
     return std::runtime_error("restart: " + snapshot.path + " is not a snapshot of this case: " + what);
   };
+  // With open boundaries, fluid and buffer particles change kind, come and go (sim/open_boundary.hpp).
+  const bool open = !open_zones_.empty();
+  const SnapshotField* zones = nullptr;
+  if (open) {
+    zones = &snapshot.field("open_zone");
+    next_id_ = static_cast<Index>(snapshot.attributes.at("next_id"));
+  }
+  const auto exchanged = [&](Index a) { return open && (kind[a] == FluidKind::fluid || open_zone[a] >= 0); };
+  std::vector<bool> matched(snapshot.size(), false);
   StateVector<Index> keep(allocator<Index>());
   for (Index a = 0; a < size(); ++a) {
     const long long r = static_cast<std::size_t>(id[a]) < row.size() ? row[id[a]] : -1;
     if (r < 0) {  // fluid the earlier run removed; every wall and structure particle must be there
-      if (kind[a] != FluidKind::fluid)
+      if (kind[a] != FluidKind::fluid && !exchanged(a))
         throw mismatch("it lacks the wall or structure particle id " + std::to_string(id[a]));
       continue;
     }
-    if (kinds.data[r] != static_cast<double>(kind[a]))
+    if (kinds.data[r] != static_cast<double>(kind[a]) && !exchanged(a))
       throw mismatch("particle id " + std::to_string(id[a]) + " is of another kind there");
+    matched[r] = true;
+    keep.push_back(a);
+  }
+  // Particles the open boundaries created: copies of a fluid or buffer particle, given their state below.
+  const Index kept = static_cast<Index>(keep.size());
+  std::vector<std::size_t> created;
+  const auto source = std::find_if(keep.begin(), keep.end(), [&](Index a) { return exchanged(a); });
+  for (std::size_t r = 0; r < snapshot.size(); ++r)
+    if (!matched[r]) {
+      if (source == keep.end())
+        throw mismatch("it has " + std::to_string(snapshot.size() - kept) + " particles whose ids this case lacks");
+      created.push_back(r);
+      keep.push_back(*source);
+    }
+  if (static_cast<Index>(keep.size()) != size() || kept != size()) {
+    reorder(keep.data(), static_cast<Index>(keep.size()));
+    count_kinds();
+  }
+  for (Index a = 0; a < size(); ++a) {
+    const std::size_t r = a < kept ? static_cast<std::size_t>(row[id[a]]) : created[a - kept];
     position[a] = snapshot_vector<D>(x, r);
     velocity[a] = snapshot_vector<D>(u, r);
     pressure[a] = p.data[r];
-    keep.push_back(a);
+    if (!exchanged(a)) continue;
+    id[a] = static_cast<Index>(snapshot.field("id").data[r]);
+    kind[a] = static_cast<FluidKind>(kinds.data[r]);
+    open_zone[a] = static_cast<Index>(zones->data[r]);
+    const bool buffer = open_zone[a] >= 0;
+    wall_velocity[a] = buffer ? velocity[a] : Vec<D>::zero();
+    wall_acceleration[a] = Vec<D>::zero();
+    wall_normal[a] = reference_normal[a] = buffer ? open_zones_[open_zone[a]].normal : Vec<D>::zero();
+    wall_depth[a] = buffer ? open_zones_[open_zone[a]].depth(position[a]) : 0;
+    reference_position[a] = position[a];
   }
-  if (keep.size() != snapshot.size())
-    throw mismatch("it has " + std::to_string(snapshot.size() - keep.size()) + " particles whose ids this case lacks");
-  if (const Index removed = size() - static_cast<Index>(keep.size()); removed > 0) {
-    reorder(keep.data(), static_cast<Index>(keep.size()));
-    fluid_count_ -= removed;
-  }
+  count_kinds();
   if (const auto memory = snapshot.fields.find("memory_row"); memory != snapshot.fields.end()) {
     StateVector<Index> order(static_cast<std::size_t>(size()), -1, allocator<Index>());
     for (Index a = 0; a < size(); ++a) {
@@ -176,6 +327,7 @@ void ParticleSet<D>::restore(const SnapshotData& snapshot) {
   time = snapshot.time;
   const auto work = snapshot.attributes.find("wall_work");
   wall_work = work != snapshot.attributes.end() ? work->second : 0;
+  if (open) prescribe_inflow();
 }
 
 template <int D>

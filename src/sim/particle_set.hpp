@@ -25,6 +25,7 @@
 #include "io/output.hpp"
 #include "kernels/fluid_view.hpp"
 #include "poisson/linear_solver.hpp"
+#include "sim/open_boundary.hpp"
 #include "sim/phase_timer.hpp"
 
 namespace isph {
@@ -61,6 +62,8 @@ struct FluidSetup {
   std::vector<Index> motion;            // walls: index in `motions`; -1 for fixed walls and the others
   std::vector<Index> body;              // index in the case's bodies (-1: a set built by hand)
   std::vector<RigidMotion<D>> motions;  // prescribed motions of wall bodies
+  std::vector<OpenZone<D>> open_zones;  // inlets and outlets (sim/open_boundary.hpp)
+  std::vector<Index> open_zone;         // buffer particles: index in `open_zones`; -1 for the others (or empty)
   Real density = 0;
   Real viscosity = 0;      // kinematic [m^2/s]
   Real dx = 0;             // the fluid's (and walls') particle spacing
@@ -145,6 +148,7 @@ class ParticleSet {
   StateVector<Index> id, structure_index,
       motion;                              // stable id; TLSPH index (-1: not a structure particle); motion (-1: none)
   StateVector<Index> body;                 // index in the case's bodies (FluidSetup::body)
+  StateVector<Index> open_zone;            // buffer particles: their open boundary; -1 for the others
   StateVector<Vec<D>> reference_position;  // initial positions (moving walls follow their motion from them)
   StateVector<Vec<D>> boundary_force;      // pressure force per unit volume on wall and structure particles
   Real time = 0;
@@ -163,6 +167,10 @@ class ParticleSet {
   const Vec<D>& gravity() const { return gravity_; }
   bool has_structure() const { return has_structure_; }
   bool has_moving_walls() const { return !motions_.empty(); }
+  bool has_outlet() const;
+  const std::vector<OpenZone<D>>& open_zones() const { return open_zones_; }
+  const std::vector<OpenZoneFlow>& open_flows() const { return open_flows_; }
+  Index next_id() const { return next_id_; }
   // Counts the re-sorts and removals: the particles' order is that of the last count.
   long long order_version() const { return order_version_; }
   // Neighbour searches so far: every kSortInterval-th re-sorts (a snapshot keeps the count, so that a
@@ -193,6 +201,11 @@ class ParticleSet {
   void attach(StateVector<T>& v) {
     followers_.push_back([this, &v](const Index* order, Index count) { permute(v, order, count); });
   }
+
+  // After a fluid step of length dt (time at its end): the open boundaries' exchange of buffer and
+  // fluid particles, and the inlets' velocities at `time` (sim/open_boundary.hpp). Particles created
+  // take new stable ids; the neighbour list is rebuilt when the count changed.
+  void exchange_open_boundaries(Real dt);
 
   // Moving walls over [t, t + dt] (t = time; PrescribeWalls).
   void prescribe_walls(Real dt);
@@ -245,8 +258,13 @@ class ParticleSet {
   Vec<D> summed(Index n, ForceComponent<D> component) const;
   // The cell list and the neighbour list, after a re-sort by cell when `sort`.
   void build_neighbours(bool sort);
-  // Reorders (or, from remove_fluid_outside and restore, shrinks) the state and the attached arrays:
-  // v[k] = v[order[k]] for k < count, `order` readable by the device in use.
+  // The inlets' buffer particles take the velocity U(x, time) n and its time derivative.
+  void prescribe_inflow();
+  // Counts the fluid and wall particles again (after the open boundaries' exchange).
+  void count_kinds();
+  // Reorders (or, from remove_fluid_outside and restore, shrinks; from the open boundaries' exchange,
+  // grows by copies) the state and the attached arrays: v[k] = v[order[k]] for k < count, `order`
+  // readable by the device in use.
   void reorder(const Index* order, Index count);
   // v[k] = v_old[order[k]] for k < count, and v keeps count elements (count <= v.size()), gathered by
   // the launcher through a scratch buffer.
@@ -275,6 +293,10 @@ class ParticleSet {
   long long neighbour_searches_ = 0, order_version_ = 0;
   Real viscous_wall_power_ = 0;
   std::vector<RigidMotion<D>> motions_;
+  std::vector<OpenZone<D>> open_zones_;
+  StateVector<OpenZoneRow> open_rows_;  // per zone, for the PPE rows (FluidView)
+  std::vector<OpenZoneFlow> open_flows_;
+  Index next_id_ = 0;  // the stable id of the next particle created
   Real density_, dx_;
   KernelTable<D> kernels_;
   int fluid_level_;

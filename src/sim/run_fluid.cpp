@@ -62,6 +62,12 @@ void write_fluid_snapshot(SnapshotWriter& writer, double t, const FluidModel<D>&
     memory_row.data[k] = a;
   }
   std::vector<SnapshotField> fields{vel, p, kind, id, memory_row};
+  if (!particles.open_zones().empty()) {  // the buffers (ParticleSet::restore)
+    SnapshotField zone{"open_zone", 1, std::vector<double>(n)};
+    for (Index k = 0; k < n; ++k) zone.data[k] = particles.open_zone[slot[k]];
+    fields.push_back(zone);
+    restart_state.push_back({"next_id", static_cast<double>(particles.next_id())});
+  }
   model.add_snapshot_fields(slot, fields);
   restart_state.insert(restart_state.end(),
                        {{"wall_work", particles.wall_work},
@@ -177,6 +183,42 @@ struct PpeTally {
   }
 };
 
+// The fluid's volume (fluid particles only: an open boundary's buffer is not in it).
+template <int D>
+Real fluid_volume(const ParticleSet<D>& p) {
+  Real v = 0;
+  for (Index a = 0; a < p.size(); ++a)
+    if (p.kind[a] == FluidKind::fluid) v += p.volume[a];
+  return v;
+}
+
+// summary.json's open_boundaries: per boundary the particles and the mass across its plane (an inlet's
+// prescribed mass beside), and the balance inflow - outflow - the change of the fluid's mass, over the
+// inflow (docs/CASES.md "Open boundaries").
+template <int D>
+JsonObject open_boundary_summary(const ParticleSet<D>& p, Real initial_fluid_volume) {
+  JsonObject o;
+  Real in = 0, out = 0;
+  for (std::size_t z = 0; z < p.open_zones().size(); ++z) {
+    const OpenZone<D>& zone = p.open_zones()[z];
+    const OpenZoneFlow& flow = p.open_flows()[z];
+    JsonObject b;
+    b.set("type", zone.outlet ? "outlet" : "inlet")
+        .set("particles_crossed", flow.crossed)
+        .set("mass_crossed", p.density() * flow.volume_crossed);
+    if (zone.outlet)
+      b.set("particles_removed", flow.removed);
+    else
+      b.set("mass_prescribed", p.density() * flow.volume_prescribed);
+    (zone.outlet ? out : in) += p.density() * flow.volume_crossed;
+    o.set(zone.name, b);
+  }
+  const Real change = p.density() * (fluid_volume(p) - initial_fluid_volume);
+  o.set("mass_in", in).set("mass_out", out).set("fluid_mass_change", change);
+  if (in > 0) o.set("mass_balance", (in - out - change) / in);
+  return o;
+}
+
 // The parts of a run with a fluid: the model and its coupled structure, the probes, the output frame.
 template <int D>
 struct FluidRun {
@@ -284,7 +326,7 @@ struct FluidRun {
 
   // summary.json's ppe, performance and particles, and the closing line.
   void finish(Real t, Real start_time, long long steps, const PpeTally& ppe, const DivergenceMonitor<D>& monitor,
-              const ContactRecord<D>& wall_contact, Index initial_fluid) {
+              const ContactRecord<D>& wall_contact, Index initial_fluid, Real initial_fluid_volume) {
     const ParticleSet<D>& particles = model->particles();
     const double stepping = timer.total() - timer.get("output") - timer.get("setup");
     JsonObject perf;
@@ -300,6 +342,8 @@ struct FluidRun {
     JsonObject counts =
         particle_counts(initial_fluid, particles.wall_count(), coupling ? coupling->solver().size() : 0);
     monitor.add_counts(counts);
+    if (!particles.open_zones().empty())
+      counts.set("open_boundaries", open_boundary_summary(particles, initial_fluid_volume));
     if (particles.wall_count() > 0) wall_contact.write(counts, "wall");
     frame.finish(D, counts, steps, coupling ? coupling->substeps() : 0, t, timer,
                  ppe.summary(model->pressure_solver(), monitor.ppe_failures()), perf);
@@ -334,6 +378,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
   PpeTally ppe;
   ContactRecord<D> wall_contact;  // fluid inside the walls, step by step
   const Index initial_fluid = particles.fluid_count();
+  const Real initial_fluid_volume = fluid_volume(particles);
   const Real eps = 1e-12 * spec.end_time;
   Real t = start_time, first_dt = 0;
   long long step = 0;
@@ -362,7 +407,7 @@ RunResult run_fluid(const CaseSpec& spec, const RunOptions& opt, Scene<D>& scene
     if (going) frame.progress(t, step, timer.total() - timer.get("output") - timer.get("setup"));
   }
   if (frame.running() && frame.final_snapshot_due()) run.snapshot(t);
-  run.finish(t, start_time, step, ppe, monitor, wall_contact, initial_fluid);
+  run.finish(t, start_time, step, ppe, monitor, wall_contact, initial_fluid, initial_fluid_volume);
   return frame.result;
 }
 

@@ -225,6 +225,81 @@ void place_fluid_probes(const CaseSpec& spec, const std::string& file, Scene<D>&
   }
 }
 
+// The open boundaries' buffers (sim/open_boundary.hpp): the fluid particles behind each plane, within
+// its buffer, become its buffer particles. The plane's point must lie in the walls' box, the buffer must
+// hold the kernel's support and some fluid, and no fluid may lie behind it. An inlet's flow_rate scales
+// its profile to the flow sum V u / L its buffer carries. Returns the fastest inflow over the run.
+template <int D>
+Real make_open_buffers(const CaseSpec& spec, const Box<D>& walls, const std::string& file, FluidSetup<D>& f,
+                       std::vector<std::string>& problems) {
+  const Real support = f.fluid_kernel().support();
+  f.open_zones = open_zones<D>(spec, support);
+  f.open_zone.assign(f.x.size(), -1);
+  Real fastest = 0;
+  for (std::size_t zi = 0; zi < f.open_zones.size(); ++zi) {
+    OpenZone<D>& zone = f.open_zones[zi];
+    const std::string path = file + ": open_boundaries[" + std::to_string(zi) + "]";
+    char buf[512];
+    if (spec.open_boundaries[zi].layers > 0 && zone.thickness < support) {
+      std::snprintf(buf, sizeof buf,
+                    "%s.layers: the buffer, %d x dx = %g m, is thinner than the kernel's support 2h = %g m; give at "
+                    "least %d layers (or leave layers out)",
+                    path.c_str(), spec.open_boundaries[zi].layers, zone.thickness, support,
+                    static_cast<int>(std::ceil(support / spec.dx - 1e-9)));
+      problems.push_back(buf);
+      continue;
+    }
+    bool inside = true;
+    for (int d = 0; d < D; ++d) inside = inside && zone.point[d] >= walls.lo[d] && zone.point[d] <= walls.hi[d];
+    if (!inside) {
+      problems.push_back(path +
+                         ".point: the plane's point lies outside the walls' bounding box; an open boundary "
+                         "must cut the channel its walls bound");
+      continue;
+    }
+    Index buffer = 0, behind = 0;
+    Real flow = 0;
+    for (std::size_t a = 0; a < f.x.size(); ++a) {
+      const Real depth = zone.depth(f.x[a]);
+      if (f.kind[a] != FluidKind::fluid || f.open_zone[a] >= 0 || !(depth > 0)) continue;
+      if (depth > zone.thickness) {
+        ++behind;
+        continue;
+      }
+      ++buffer;
+      f.open_zone[a] = static_cast<Index>(zi);
+      f.kind[a] = FluidKind::wall;
+      f.wall_normal[a] = zone.normal;
+      f.wall_depth[a] = depth;
+      f.wall_velocity[a] = f.u[a];  // an outlet's buffer keeps its velocity; an inlet's takes U (ParticleSet)
+      if (!zone.outlet)
+        flow += f.volume[a] * zone.speed(f.x[a], std::max(zone.ramp_time, spec.end_time)) / zone.thickness;
+    }
+    if (behind > 0) {
+      std::snprintf(buf, sizeof buf,
+                    "%s: %d fluid particles lie behind its buffer (more than %g m behind the plane); end the fluid "
+                    "bodies at the buffer's far side",
+                    path.c_str(), behind, zone.thickness);
+      problems.push_back(buf);
+    }
+    if (buffer == 0) problems.push_back(path + ": no fluid particle lies in its buffer; the fluid bodies must fill it");
+    if (zone.outlet || buffer == 0) continue;
+    if (const Real rate = spec.open_boundaries[zi].flow_rate; rate > 0) {
+      if (!(flow > 0)) {
+        problems.push_back(path + ".flow_rate: the velocity's shape carries no flow to scale");
+        continue;
+      }
+      zone.scale = rate / flow;
+    }
+    constexpr int samples = 200;
+    for (std::size_t a = 0; a < f.x.size(); ++a)
+      if (f.open_zone[a] == static_cast<Index>(zi))
+        for (int k = 0; k <= samples; ++k)
+          fastest = std::max(fastest, std::abs(zone.speed(f.x[a], spec.end_time * k / samples)));
+  }
+  return fastest;
+}
+
 }  // namespace
 
 // Appends a fluid or wall body's lattice points to the fluid set-up.
@@ -295,7 +370,14 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const
   const std::vector<unsigned char> corner =
       wall_surface_geometry(f, structure.fixed, resolutions.spacing, support, f.period, f.gravity);
   check_wall_thickness(f, corner, spec.dx, support, f.period, file, problems);
-  set_reference_velocity(spec, boundary_speed(spec, f, structure, box), file, f, problems);
+  const std::size_t known_problems = problems.size();
+  const Real inflow = make_open_buffers(spec, box, file, f, problems);
+  if (!f.open_zones.empty()) {
+    scene.fluid_particles = static_cast<Index>(std::count(f.kind.begin(), f.kind.end(), FluidKind::fluid));
+    scene.wall_particles = static_cast<Index>(std::count(f.kind.begin(), f.kind.end(), FluidKind::wall));
+  }
+  if (problems.size() == known_problems)  // a rejected inlet gives no speed: no second message
+    set_reference_velocity(spec, std::max(inflow, boundary_speed(spec, f, structure, box)), file, f, problems);
   set_escape_box(f, box, scene);
   place_fluid_probes(spec, file, scene, f, problems);
 }

@@ -10,6 +10,7 @@
 #include "io/output.hpp"
 #include "run_support.hpp"
 #include "sim/run.hpp"
+#include "snapshot_compare.hpp"
 
 namespace {
 
@@ -54,20 +55,6 @@ const std::string kPlate = "run " + kCases +
                            "oscillating_plate.toml --quiet --set end_time=0.1"
                            " --set structure.integrator=\"verlet\" --set structure.courant=0.8"
                            " --set output.snapshot_interval=0.01";
-
-// Every value of every field of two snapshots is the same double.
-void expect_same_bits(const fs::path& a, const fs::path& b) {
-  const isph::SnapshotData x = isph::read_snapshot(a.string()), y = isph::read_snapshot(b.string());
-  EXPECT_EQ(x.time, y.time);
-  ASSERT_EQ(x.fields.size(), y.fields.size());
-  for (const auto& [name, field] : x.fields) {
-    const auto& other = y.field(name).data;
-    ASSERT_EQ(field.data.size(), other.size()) << name;
-    std::size_t differ = 0;
-    for (std::size_t k = 0; k < other.size(); ++k) differ += field.data[k] != other[k];
-    EXPECT_EQ(differ, 0u) << name << ": " << a << " against " << b;
-  }
-}
 
 }  // namespace
 
