@@ -5,6 +5,7 @@
 //    W = s [0.25 (2 - q)^3]           for 1 <= q < 2,   s = 10/(7 pi h^2) in 2D, 1/(pi h^3) in 3D.
 //  Wendland C2 (Wendland 1995), q = r/h:
 //    W = s (1 - q/2)^4 (2q + 1)       for 0 <= q < 2,   s = 7/(4 pi h^2) in 2D, 21/(16 pi h^3) in 3D.
+#include <cmath>
 #include <span>
 
 #include "core/enum_names.hpp"
@@ -70,5 +71,24 @@ struct SmoothingKernel {
     return (derivative(r) / r) * r_ab;
   }
 };
+
+// Sum of f(r) over the points r of a full lattice of spacing dx within the kernel's support of the
+// origin (the origin included): the values a particle in a regular interior sees.
+template <int D, class F>
+Real lattice_sum(const SmoothingKernel<D>& kernel, Real dx, F f) {
+  const int reach = static_cast<int>(std::ceil(kernel.support() / dx));
+  int index[D];
+  for (int d = 0; d < D; ++d) index[d] = -reach;
+  Real sum = 0;
+  while (true) {
+    Vec<D> r;
+    for (int d = 0; d < D; ++d) r[d] = index[d] * dx;
+    sum += f(r);
+    int d = 0;
+    while (d < D && ++index[d] > reach) index[d++] = -reach;
+    if (d == D) break;
+  }
+  return sum;
+}
 
 }  // namespace isph

@@ -197,6 +197,7 @@ struct BodySpec {
   std::string material;  // name in the material table
   Shape shape;
   std::vector<Shape> clamps;  // particles of this body inside any clamp are fixed
+  std::vector<Shape> holes;   // fluid: the body leaves these empty (an obstacle's wall body fills one)
   double refinement = 1.0;    // structures: the case's dx over the body's spacing (>= 1; s = dx / refinement)
   double dx = 0.0;            // structures: the body's own spacing [m] instead (0: from refinement)
   std::array<double, 3> lattice_origin{};  // lattice points at origin + (i + offset) s
@@ -237,13 +238,14 @@ struct LoadSpec {
 //  "water_level":  the height of the water surface on the vertical line through `point`, at or above
 //                  point's height (field h): a wave gauge.
 //  "force":        the fluid's pressure force on the wall or structure `body` (fields fx, fy[, fz];
-//                  per unit depth in 2D), the time mean over the fluid steps since the previous row;
-//                  no point.
+//                  per unit depth in 2D), with `viscous` its viscous traction too (walls), the time
+//                  mean over the fluid steps since the previous row; no point.
 struct ProbeSpec {
   std::string name;
   ProbeType type = ProbeType::displacement;
   std::array<double, 3> point{};
-  std::string body;  // "force": the body the force acts on
+  std::string body;      // "force": the body the force acts on
+  bool viscous = false;  // "force": with the fluid's viscous traction (on a wall body)
   bool operator==(const ProbeSpec&) const = default;
 };
 
@@ -251,8 +253,8 @@ struct ProbeSpec {
 // `normal` into the fluid, and behind it a buffer of `layers` particle spacings, filled by the fluid
 // bodies. An inlet's buffer particles move at the prescribed velocity, normal to the plane, and become
 // fluid as they cross it; each is replaced by a new one a buffer's thickness behind. Fluid crossing an
-// outlet's plane joins its buffer, where the pressure is `pressure` and the velocity stays the one it
-// crossed with; it is removed at the buffer's far side.
+// outlet's plane joins its buffer, which moves with the fluid beside the plane and holds the pressure
+// `pressure`; it is removed at the buffer's far side.
 struct OpenBoundarySpec {
   std::string name;
   OpenBoundaryType type = OpenBoundaryType::inlet;
@@ -342,6 +344,7 @@ struct FluidSpec {
   double max_dt = 0.0;                       // [s]; 0: no cap
   Turbulence turbulence = Turbulence::none;  // sps: Eq. 10
   double smagorinsky = 0.1;                  // c_s of Eq. 10
+  double density_relaxation = 0.0;           // gamma of the PPE's density-invariant term (poisson/ppe_assembly.hpp)
   bool free_surface = true;                  // detect the free surface (Dirichlet p = 0, Eq. 17)
   double surface_threshold = 0.0;            // div r below it: surface; 0: 1.4 (2D), 2.4 (3D)
   double surface_full = 0.0;                 // div r above it: Skillen alpha = 1; 0: 1.6 (2D), 2.6 (3D)

@@ -129,6 +129,15 @@ std::vector<SettingKey> declare_keys() {
       keys, "fluid", "escape", [](auto& c) -> auto& { return c.fluid.escape; })
       .doc(
           R"d(a fluid particle that leaves the escape box (the box of all particles grown by 2h, and upwards, against gravity, by its own height; moving walls' paths widen it): `"remove"`: when it left above the set-up's highest particle less one kernel support 2h (thrown out over the walls, or over their top corner; so a particle that leaks through the top 2h of a wall is removed too) it is taken out of the run, which goes on (the progress output says so; summary.json gives `particles.fluid_removed` and `particles.fluid_first_removed_at`; its energy leaves energy.csv with it); `"stop"`: the run stops as diverged, naming the particle. A particle that left below that height (through a wall or the floor: a numerical failure) stops the run either way)d");
+  add(
+      keys, "fluid", "density_relaxation", [](auto& c) -> auto& { return c.fluid.density_relaxation; })
+      .bounds({0, 1})
+      .doc(
+          "γ: the PPE's source in full rows gains γ (1 − σ / σ₀) / Δt², σ = Σ V W the particles' kernel sum and σ₀ "
+          "its value on a regular lattice, so that a region whose particles have spread is drawn together by the "
+          "fraction γ of its deficit per step "
+          "(a density-invariant term after Asai et al. 2012); 0: the seed's divergence-free source alone. Open "
+          "channels with obstacles need it (docs/VALIDATION.md section 35)");
   // [fluid.shifting]
   add(
       keys, "fluid.shifting", "type", [](auto& c) -> auto& { return c.fluid.shifting.type; })

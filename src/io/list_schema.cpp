@@ -184,6 +184,11 @@ std::vector<SchemaKey<ProbeSpec>> declare_probes() {
       .only([](const P& p, int) { return p.type == ProbeType::force; }, "force",
             [](const P& p, int) { return "only for type = \"force\" (" + is("type", p.type) + ")"; })
       .doc("name of the wall or structure body the force acts on");
+  add(
+      keys, "viscous", [](P & p) -> auto& { return p.viscous; })
+      .only([](const P& p, int) { return p.type == ProbeType::force; }, "force",
+            [](const P& p, int) { return "only for type = \"force\" (" + is("type", p.type) + ")"; })
+      .doc("add the fluid's viscous traction to the pressure force (a wall body; the drag of a cylinder)");
   return keys;
 }
 

@@ -313,6 +313,13 @@ std::vector<SchemaKey<BodySpec>> declare_bodies() {
             [](const B& b, int) { return "only for kind = \"structure\" (" + is("kind", b.kind) + ")"; })
       .doc("particles of the body inside any clamp are fixed");
   add(
+      keys, "holes", [](B & b) -> auto& { return b.holes; })
+      .only([](const B& b, int) { return b.kind == ParticleKind::fluid; }, "fluid",
+            [](const B& b, int) { return "only for kind = \"fluid\" (" + is("kind", b.kind) + ")"; })
+      .doc(
+          "shapes the fluid leaves empty, for the wall bodies of obstacles inside it (a cylinder in a channel: "
+          "`cases/dfg_cylinder.toml`)");
+  add(
       keys, "refinement", [](B & b) -> auto& { return b.refinement; })
       .bounds({1, 16})
       .only(structure, "structure", not_structure_spacing)

@@ -86,14 +86,18 @@ struct ViscousAcceleration {
     const Mat<D> G = flux_form ? Mat<D>::zero() : grad[a];
     for (Index k = op.nbr_offset[a]; k < op.nbr_offset[a + 1]; ++k) {
       const Index b = op.nbr[k];
-      const Vec<D> r_ab = op.r(a, b);
-      const Real rho = sqrt(norm2(r_ab));
-      if (!(rho > 0)) continue;
-      const Real nu_b = viscosity + (eddy_viscosity && v.is_fluid(b) ? eddy_viscosity[b] : 0);
-      const Real w =
-          0.5 * (nu_a + nu_b) * laplacian_pair_weight(bhat, r_ab, rho, op.volume[b] * op.gradient(a, b, r_ab));
-      term(b, (w / rho) * (u[a] - v.velocity_seen(a, b, u) - G * r_ab));
+      term(b, pair_term(a, b, nu_a, bhat, G));
     }
+  }
+  // The pair term c_ab of for_each_term, given a's viscosity, B^ and G (zero for b = a).
+  ISPH_HD Vec<D> pair_term(Index a, Index b, Real nu_a, const Mat<D>& bhat, const Mat<D>& G) const {
+    const OperatorView<D>& op = v.op;
+    const Vec<D> r_ab = op.r(a, b);
+    const Real rho = sqrt(norm2(r_ab));
+    if (!(rho > 0)) return Vec<D>::zero();
+    const Real nu_b = viscosity + (eddy_viscosity && v.is_fluid(b) ? eddy_viscosity[b] : 0);
+    const Real w = 0.5 * (nu_a + nu_b) * laplacian_pair_weight(bhat, r_ab, rho, op.volume[b] * op.gradient(a, b, r_ab));
+    return (w / rho) * (u[a] - v.velocity_seen(a, b, u) - G * r_ab);
   }
   ISPH_HD Vec<D> at(Index a) const {
     Vec<D> lap = Vec<D>::zero();
@@ -122,6 +126,67 @@ struct ViscousWallPower {
         if (v.kind[b] == FluidKind::wall) p += dot(c, v.wall_velocity[b]);
       });
     power[a] = density * v.op.volume[a] * p;
+  }
+};
+
+// The viscous force per unit volume on wall particle w (zero on the others): each fluid neighbour a
+// feels m_a c_aw from it (ViscousAcceleration's flux form), so the wall takes
+//   f_w = -(rho / V_w) sum_{a fluid} V_a c_aw.
+// Summed over a body with its volumes (ParticleSet::body_viscous_force), the drag's viscous part.
+template <int D>
+struct ViscousWallForce {
+  ViscousAcceleration<D> viscous;
+  Real density;
+  Vec<D>* force_density;
+  ISPH_HD void operator()(Index w) const {
+    const FluidView<D>& v = viscous.v;
+    Vec<D> f = Vec<D>::zero();
+    if (v.kind[w] == FluidKind::wall)
+      for (Index k = v.op.nbr_offset[w]; k < v.op.nbr_offset[w + 1]; ++k) {
+        const Index a = v.op.nbr[k];
+        if (!v.is_fluid(a)) continue;
+        const Real nu_a = viscous.viscosity + (viscous.eddy_viscosity ? viscous.eddy_viscosity[a] : 0);
+        f += v.op.volume[a] * viscous.pair_term(a, w, nu_a, Mat<D>::identity(), Mat<D>::zero());
+      }
+    force_density[w] = (-density / v.op.volume[w]) * f;
+  }
+};
+
+// One pass of the outlet buffers' velocity (sim/open_boundary.hpp): each buffer particle b takes the
+// velocity of the particle nearest the point one spacing ahead of it, x_b + dx n (n: the normal into
+// the fluid), fluid or buffer, within dx/2 of it; out = in elsewhere. As many passes as the buffer has
+// layers carry the velocity the fluid has beside the plane through the whole buffer, row by row: the
+// flow leaves with zero gradient along n and the buffer moves as one. (A kernel average across the
+// rows flattened the channel's profile at the outlet to 4.4 % of its peak; buffer particles that kept
+// the velocity they crossed with were overtaken by faster ones behind them as the inflow ramped up,
+// and the buffer drew fluid out of the channel: docs/VALIDATION.md section 34.)
+template <int D>
+struct OutletVelocityPass {
+  FluidView<D> v;
+  const Vec<D>* in;
+  Vec<D>* out;
+  ISPH_HD void operator()(Index b) const {
+    out[b] = in[b];
+    if (!v.is_outlet(b)) return;
+    const Vec<D> ahead = v.dx * v.wall_normal[b];  // the point, relative to x_b
+    Real nearest2 = 0.25 * v.dx * v.dx;
+    for (Index k = v.op.nbr_offset[b]; k < v.op.nbr_offset[b + 1]; ++k) {
+      const Index a = v.op.nbr[k];
+      if (!v.is_fluid(a) && !v.is_outlet(a)) continue;
+      const Real d2 = norm2(ahead + v.op.r(b, a));  // |x_a - (x_b + ahead)|^2
+      if (d2 < nearest2) nearest2 = d2, out[b] = in[a];
+    }
+  }
+};
+
+// After the passes: an outlet's buffer particles move with their velocity (Drift, Advance).
+template <int D>
+struct OutletWallVelocity {
+  FluidView<D> v;
+  const Vec<D>* velocity;
+  Vec<D>* wall_velocity;
+  ISPH_HD void operator()(Index b) const {
+    if (v.is_outlet(b)) wall_velocity[b] = velocity[b];
   }
 };
 

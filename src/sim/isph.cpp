@@ -45,7 +45,8 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
       fsi_shifting_(s.fsi_shifting),
       fsi_shifting_law_(s.fsi_shifting_law),
       pairwise_force_(s.interaction_force == InteractionForce::pairwise),
-      wall_force_(s.wall_force) {
+      wall_force_(s.wall_force),
+      wall_viscous_force_(s.wall_viscous_force) {
   ParticleSet<D>& ps = particles_;
   for (auto* v : {&x_old_, &u_star_, &u_new_, &u_collided_, &grad_p_, &surface_normal_, &shift_, &wall_moment_})
     *v = ps.array(Vec<D>::zero());
@@ -69,6 +70,8 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
     m->col = StateVector<int>(ps.template allocator<int>());
     m->val = StateVector<double>(ps.template allocator<double>());
   }
+  full_kernel_sum_ = std::pow(s.dx, D) *
+                     lattice_sum(kernel_, s.dx, [&](const Vec<D>& r) { return kernel_.value(std::sqrt(norm2(r))); });
   const Real full = D;  // div r in a full support
   thresholds_.chi = settings_.surface_threshold > 0 ? settings_.surface_threshold : full - 0.6;
   thresholds_.chi_full = settings_.surface_full > 0 ? settings_.surface_full : full - 0.4;
@@ -243,7 +246,9 @@ void IsphSolver<D>::assemble_ppe(const FluidView<D>& pv, Real dt, Index pinned) 
                              .wall_moment = wall_moment_.data(),
                              .structure_index = particles_.structure_index.data(),
                              .structure_inverse_density = structure_inverse_density_,
-                             .added_mass = added_mass_});
+                             .added_mass = added_mass_,
+                             .density_relaxation = settings_.density_relaxation,
+                             .full_kernel_sum = full_kernel_sum_});
   compress_matrix();
   solves_since_assembly_ = 0;
 }
@@ -328,6 +333,13 @@ void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
     });
   else if (wall_force_)
     timer.time("wall_force", [&] { boundary_pressure_force(true, FluidKind::wall); });
+  if (wall_viscous_force_)  // with the new velocity (the flux form reads neither B^ nor G)
+    timer.time("wall_force", [&] {
+      const bool sps = settings_.turbulence == Turbulence::sps;
+      particles_.record_wall_viscous_force(ViscousAcceleration<D>{v, Bhat_.data(), grad_u_.data(),
+                                                                  particles_.velocity.data(),
+                                                                  sps ? eddy_viscosity_.data() : nullptr, viscosity_});
+    });
   particles_.time += dt;
   if (!particles_.open_zones().empty()) timer.time("open_boundaries", [&] { particles_.exchange_open_boundaries(dt); });
 }

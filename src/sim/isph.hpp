@@ -112,12 +112,14 @@ class IsphSolver final : public FluidModel<D> {
   Real added_mass_ = 0;
   bool kernel_correction_;
   SurfaceThresholds thresholds_;
+  Real full_kernel_sum_;  // sum_b V_b W_ab on a regular lattice (PpeRowFill's density term)
   ShiftingType shifting_;
   bool extrapolate_surface_;
   bool fsi_shifting_;
   FsiLayerLaw fsi_shifting_law_;
   bool pairwise_force_;
-  bool wall_force_;  // FluidSetup::wall_force
+  bool wall_force_;          // FluidSetup::wall_force
+  bool wall_viscous_force_;  // FluidSetup::wall_viscous_force
   std::unique_ptr<LinearSolver> solver_, fallback_;
   std::string solver_name_;
 };

@@ -11,8 +11,9 @@
 //    2012), the Neumann condition dp/dn = rho (g - dU/dt) · n of a prescribed velocity. One that crosses
 //    the plane becomes fluid with its velocity, and a new buffer particle (a new stable id) takes its
 //    place a buffer's thickness behind (x - L n);
-//  - fluid that crosses an outlet's plane joins its buffer and keeps the velocity it crossed with; the
-//    buffer's PPE rows are Dirichlet, p = the outlet's pressure; a particle is removed at the far side.
+//  - fluid that crosses an outlet's plane joins its buffer, whose particles take the velocity the fluid
+//    has beside the plane, row by row (OutletVelocityPass: zero gradient along n); the buffer's PPE rows
+//    are Dirichlet, p = the outlet's pressure; a particle is removed at the far side.
 // The exchange runs after each fluid step (ParticleSet::exchange_open_boundaries), on the host, in
 // particle order, so that runs repeat exactly.
 #include <string>

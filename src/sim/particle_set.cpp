@@ -61,7 +61,7 @@ ParticleSet<D>::ParticleSet(FluidSetup<D>& s)
   body = state_copy(s.body, managed);
   open_zone = state_copy(s.open_zone, managed);
   reference_position = position;
-  wall_acceleration = boundary_force = array(Vec<D>::zero());
+  wall_acceleration = boundary_force = viscous_force = array(Vec<D>::zero());
   pressure = array(Real{0});
   for (auto* v : {&inside_, &permute_scratch_}) *v = StateVector<unsigned char>(allocator<unsigned char>());
   for (auto* v : {&body_distance_, &body_depth_, &power_density_, &block_sums_})
@@ -71,6 +71,7 @@ ParticleSet<D>::ParticleSet(FluidSetup<D>& s)
   wall_count_ = static_cast<Index>(std::count(s.kind.begin(), s.kind.end(), FluidKind::wall));
   structure_volume_ = StateVector<Real>(allocator<Real>());
   open_rows_ = StateVector<OpenZoneRow>(allocator<OpenZoneRow>());
+  outlet_velocity_ = StateVector<Vec<D>>(allocator<Vec<D>>());
   for (const OpenZone<D>& z : open_zones_) open_rows_.push_back({z.outlet, z.pressure});
   open_flows_.assign(open_zones_.size(), {});
   for (std::size_t k = 0; k < n; ++k) next_id_ = std::max(next_id_, s.id[k] + 1);
@@ -123,7 +124,7 @@ void ParticleSet<D>::build_neighbours(bool sort) {
 template <int D>
 void ParticleSet<D>::reorder(const Index* order, Index count) {
   for (auto* v : {&position, &velocity, &wall_velocity, &wall_acceleration, &wall_normal, &reference_normal,
-                  &reference_position, &boundary_force})
+                  &reference_position, &boundary_force, &viscous_force})
     permute(*v, order, count);
   for (auto* v : {&pressure, &volume, &wall_depth}) permute(*v, order, count);
   for (auto* v : {&id, &structure_index, &motion, &body, &open_zone}) permute(*v, order, count);
@@ -174,6 +175,20 @@ void ParticleSet<D>::prescribe_inflow() {
 }
 
 template <int D>
+void ParticleSet<D>::carry_outlet_velocity() {
+  if (!has_outlet()) return;
+  Real thickness = 0;
+  for (const OpenZone<D>& z : open_zones_) thickness = std::max(thickness, z.thickness);
+  const int passes = static_cast<int>(std::ceil(thickness / dx_ - 1e-9)) + 1;
+  outlet_velocity_.resize(position.size());
+  for (int pass = 0; pass < passes; ++pass) {
+    parallel_for(exec_, size(), OutletVelocityPass<D>{view(), velocity.data(), outlet_velocity_.data()});
+    velocity.swap(outlet_velocity_);
+  }
+  parallel_for(exec_, size(), OutletWallVelocity<D>{view(), velocity.data(), wall_velocity.data()});
+}
+
+template <int D>
 void ParticleSet<D>::count_kinds() {
   fluid_count_ = wall_count_ = 0;
   for (Index a = 0; a < size(); ++a) {
@@ -187,6 +202,7 @@ template <int D>
 void ParticleSet<D>::exchange_open_boundaries(Real dt) {
   if (open_zones_.empty()) return;
   const Index n = size();
+  carry_outlet_velocity();
   StateVector<Index> order(allocator<Index>());  // the particles kept, then the inlet crossers' copies
   std::vector<Index> entered;                    // inlet crossers, by their index in `order`
   order.reserve(n);
@@ -211,11 +227,12 @@ void ParticleSet<D>::exchange_open_boundaries(Real dt) {
     OpenZoneFlow& flow = open_flows_[z];
     const Real depth = zone.depth(position[a]);
     wall_depth[a] = depth;
-    // The energy carried across the plane, (p + rho |u|^2 / 2 - rho g·x) u·n per unit area, as the
-    // buffer's mean over its thickness: the boundary work of the energy books.
-    const Vec<D>& u = velocity[a];
-    wall_work += dt * volume[a] / zone.thickness * dot(u, zone.normal) *
-                 (pressure[a] + density_ * (0.5 * norm2(u) - dot(gravity_, position[a])));
+    // The energy carried across the plane, (p + rho |u|^2 / 2 - rho g·x) u·n per unit area, from the
+    // buffer's first layer (deeper ones see no fluid, and their rows give them p = 0): the boundary
+    // work of the energy books.
+    if (const Vec<D>& u = velocity[a]; depth >= 0 && depth < dx_)
+      wall_work += dt * volume[a] / dx_ * dot(u, zone.normal) *
+                   (pressure[a] + density_ * (0.5 * norm2(u) - dot(gravity_, position[a])));
     if (zone.outlet) {
       if (depth > zone.thickness)
         ++flow.removed;
@@ -378,6 +395,20 @@ template <int D>
 Vec<D> ParticleSet<D>::body_force(Index body_index) const {
   return summed(size(), ForceComponent<D>{.volume = volume.data(),
                                           .force_density = boundary_force.data(),
+                                          .d = 0,
+                                          .body = body.data(),
+                                          .target = body_index});
+}
+
+template <int D>
+void ParticleSet<D>::record_wall_viscous_force(const ViscousAcceleration<D>& viscous) {
+  parallel_for(exec_, size(), ViscousWallForce<D>{viscous, density_, viscous_force.data()});
+}
+
+template <int D>
+Vec<D> ParticleSet<D>::body_viscous_force(Index body_index) const {
+  return summed(size(), ForceComponent<D>{.volume = volume.data(),
+                                          .force_density = viscous_force.data(),
                                           .d = 0,
                                           .body = body.data(),
                                           .target = body_index});

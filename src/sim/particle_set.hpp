@@ -78,8 +78,9 @@ struct FluidSetup {
   bool fsi_shifting = true;     // the FSI shifting layer (Eqs. 27-30)
   FsiLayerLaw fsi_shifting_law = FsiLayerLaw::literal;
   InteractionForce interaction_force =
-      InteractionForce::pairwise;  // pairwise | gradient (Eq. 48 literally; structure/interaction.hpp)
-  bool wall_force = false;         // the walls' pressure force after every step (force probes), moving or not
+      InteractionForce::pairwise;   // pairwise | gradient (Eq. 48 literally; structure/interaction.hpp)
+  bool wall_force = false;          // the walls' pressure force after every step (force probes), moving or not
+  bool wall_viscous_force = false;  // and their viscous traction (force probes with viscous = true)
 
   const SmoothingKernel<D>& fluid_kernel() const { return kernels.kernel[fluid_level]; }
 };
@@ -151,6 +152,7 @@ class ParticleSet {
   StateVector<Index> open_zone;            // buffer particles: their open boundary; -1 for the others
   StateVector<Vec<D>> reference_position;  // initial positions (moving walls follow their motion from them)
   StateVector<Vec<D>> boundary_force;      // pressure force per unit volume on wall and structure particles
+  StateVector<Vec<D>> viscous_force;       // viscous force per unit volume on wall particles (when asked for)
   Real time = 0;
   Real wall_work = 0;  // work done on the fluid by the moving walls' pressure and viscous traction
 
@@ -217,6 +219,10 @@ class ParticleSet {
   Vec<D> gather_structure_force(std::span<Vec<D>> force_density) const;
   // From boundary_force (filled by the model): the pressure force on the particles of one body.
   Vec<D> body_force(Index body_index) const;
+  // The fluid's viscous traction on the wall particles (ViscousWallForce), into viscous_force; and from
+  // it, the viscous force on the particles of one body.
+  void record_wall_viscous_force(const ViscousAcceleration<D>& viscous);
+  Vec<D> body_viscous_force(Index body_index) const;
   // The power of the moving walls on the fluid: their pressure's (from boundary_force) and their
   // viscous traction's (the last record_viscous_wall_power).
   Real moving_wall_power() const;
@@ -260,6 +266,8 @@ class ParticleSet {
   void build_neighbours(bool sort);
   // The inlets' buffer particles take the velocity U(x, time) n and its time derivative.
   void prescribe_inflow();
+  // The outlets' buffer particles take the velocity of the fluid beside their plane (OutletVelocityPass).
+  void carry_outlet_velocity();
   // Counts the fluid and wall particles again (after the open boundaries' exchange).
   void count_kinds();
   // Reorders (or, from remove_fluid_outside and restore, shrinks; from the open boundaries' exchange,
@@ -294,7 +302,8 @@ class ParticleSet {
   Real viscous_wall_power_ = 0;
   std::vector<RigidMotion<D>> motions_;
   std::vector<OpenZone<D>> open_zones_;
-  StateVector<OpenZoneRow> open_rows_;  // per zone, for the PPE rows (FluidView)
+  StateVector<OpenZoneRow> open_rows_;   // per zone, for the PPE rows (FluidView)
+  StateVector<Vec<D>> outlet_velocity_;  // carry_outlet_velocity's other buffer
   std::vector<OpenZoneFlow> open_flows_;
   Index next_id_ = 0;  // the stable id of the next particle created
   Real density_, dx_;

@@ -93,7 +93,11 @@ class ForceProbes final : public Probe<D> {
       for (int d = 0; d < D; ++d) columns.push_back(p.name + "." + kForceComponents[d]);
   }
   void after_step(Real dt) override {
-    for (std::size_t i = 0; i < probes_.size(); ++i) impulse_[i] += dt * particles_.body_force(probes_[i].body);
+    for (std::size_t i = 0; i < probes_.size(); ++i) {
+      const ForceProbe& p = probes_[i];
+      impulse_[i] +=
+          dt * (particles_.body_force(p.body) + (p.viscous ? particles_.body_viscous_force(p.body) : Vec<D>::zero()));
+    }
     window_ += dt;
   }
   // The means since the previous row (NaN in the first row, before any step), and a new window.

@@ -171,7 +171,11 @@ void add_bodies(const CaseSpec& spec, const Resolutions& resolutions, const std:
     const BodySpec& body = spec.bodies[bi];
     const Real spacing = body.spacing(spec.dx);
     const int level = resolutions.level(body);
-    const auto points = body_particles<D>(body, spacing);
+    auto points = body_particles<D>(body, spacing);
+    std::erase_if(points, [&](const Vec<D>& x) {
+      return std::any_of(body.holes.begin(), body.holes.end(),
+                         [&](const Shape& hole) { return hole.contains(to_array(x), D); });
+    });
     if (points.empty()) {
       problems.push_back(file + ": bodies[" + std::to_string(bi) + "].shape: no particles at a spacing of " +
                          std::to_string(spacing) + " m (the shape is smaller than the particle spacing)");

@@ -209,8 +209,9 @@ void place_fluid_probes(const CaseSpec& spec, const std::string& file, Scene<D>&
     if (p.type == ProbeType::force) {  // the loader checked that the body is a wall or a structure
       const auto body =
           std::find_if(spec.bodies.begin(), spec.bodies.end(), [&](const BodySpec& b) { return b.name == p.body; });
-      scene.force_probes.push_back({p.name, static_cast<Index>(body - spec.bodies.begin())});
+      scene.force_probes.push_back({p.name, static_cast<Index>(body - spec.bodies.begin()), p.viscous});
       f.wall_force = f.wall_force || body->kind == ParticleKind::wall;
+      f.wall_viscous_force = f.wall_viscous_force || (p.viscous && body->kind == ParticleKind::wall);
       continue;
     }
     const Vec<D> point = to_vec<D>(p.point);
@@ -271,7 +272,7 @@ Real make_open_buffers(const CaseSpec& spec, const Box<D>& walls, const std::str
       f.kind[a] = FluidKind::wall;
       f.wall_normal[a] = zone.normal;
       f.wall_depth[a] = depth;
-      f.wall_velocity[a] = f.u[a];  // an outlet's buffer keeps its velocity; an inlet's takes U (ParticleSet)
+      f.wall_velocity[a] = f.u[a];  // an outlet's buffer moves with the fluid; an inlet's takes U (ParticleSet)
       if (!zone.outlet)
         flow += f.volume[a] * zone.speed(f.x[a], std::max(zone.ramp_time, spec.end_time)) / zone.thickness;
     }

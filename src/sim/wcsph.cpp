@@ -10,28 +10,6 @@
 
 namespace isph {
 
-namespace {
-
-// Sum of W(|r|) over a full lattice of spacing dx around a point of it (the point included).
-template <int D>
-Real lattice_kernel_sum(const SmoothingKernel<D>& kernel, Real dx) {
-  const int reach = static_cast<int>(std::ceil(kernel.support() / dx));
-  int index[D];
-  for (int d = 0; d < D; ++d) index[d] = -reach;
-  Real sum = 0;
-  while (true) {
-    Real r2 = 0;
-    for (int d = 0; d < D; ++d) r2 += (index[d] * dx) * (index[d] * dx);
-    sum += kernel.value(std::sqrt(r2));
-    int d = 0;
-    while (d < D && ++index[d] > reach) index[d++] = -reach;
-    if (d == D) break;
-  }
-  return sum;
-}
-
-}  // namespace
-
 template <int D>
 WcsphSolver<D>::WcsphSolver(FluidSetup<D> s)
     : particles_(s),
@@ -52,7 +30,7 @@ WcsphSolver<D>::WcsphSolver(FluidSetup<D> s)
   sound_speed_ =
       s.settings.wcsph.sound_speed > 0 ? s.settings.wcsph.sound_speed : 10 * std::sqrt(2.0) * reference_velocity_;
   self_weight_ = kernel_.value(0);
-  full_sum_ = lattice_kernel_sum(kernel_, s.dx);
+  full_sum_ = lattice_sum(kernel_, s.dx, [&](const Vec<D>& r) { return kernel_.value(std::sqrt(norm2(r))); });
   rho_ = ps.array(density_);
   drho_dt_ = ps.array(Real{0});
   for (auto* v : {&acceleration_, &viscous_}) *v = ps.array(Vec<D>::zero());

@@ -121,7 +121,7 @@ TEST_F(CaseSchema, EveryKeyIsDeclaredOnceAndDocumented) {
       EXPECT_GE(key.choices.size(), 2u) << key.path();
     }
   }
-  EXPECT_EQ(paths.size(), 60u);  // the settings keys on 2026-12-06
+  EXPECT_EQ(paths.size(), 61u);  // the settings keys on 2026-12-07
 }
 
 // Every key, set alone to each value that differs from the hydrostatic plate's, is read into the case,
@@ -162,7 +162,7 @@ TEST_F(CaseSchema, BundledCasesRoundTripFieldByField) {
     ++cases;
     expect_round_trip(load_case(entry.path().string()), entry.path().filename().string());
   }
-  EXPECT_EQ(cases, 22);
+  EXPECT_EQ(cases, 23);
 }
 
 TEST_F(CaseSchema, ThreeDimensionalCaseRoundTripsFieldByField) {
@@ -236,6 +236,7 @@ kind = "fluid"
 material = "water"
 shape = { type = "circle", center = [0.5, 0.5], radius = 0.1 }
 initial_velocity = { type = "uniform", value = [0.1, 0.0] }
+holes = [{ type = "circle", center = [0.5, 0.5], radius = 0.02 }]
 [[bodies]]
 name = "beam"
 material = "rubber"
@@ -303,6 +304,26 @@ type = "max_speed"
 name = "keel"
 type = "structure_pressure"
 point = [1.0, 0.4]
+[[probes]]
+name = "drag"
+type = "force"
+body = "floor"
+viscous = true
+[[open_boundaries]]
+name = "in"
+type = "inlet"
+point = [0.4, 0.5]
+normal = [1.0, 0.0]
+layers = 4
+velocity = "0.1 - 10 * (y - 0.5)^2"
+flow_rate = 0.01
+ramp_time = 0.5
+[[open_boundaries]]
+name = "out"
+type = "outlet"
+point = [0.6, 0.5]
+normal = [-1.0, 0.0]
+pressure = 10.0
 )");
   const std::string solid = write("lists3d.toml", R"(dimension = 3
 dx = 0.01
@@ -372,6 +393,7 @@ shape = { type = "stl", file = "cube.stl", scale = 0.1, translate = [0.5, 0.0, 0
   expect_every_key_given(motion_keys(), "motion");
   expect_every_key_given(load_keys(), "loads");
   expect_every_key_given(probe_keys(), "probes");
+  expect_every_key_given(open_boundary_keys(), "open_boundaries");
   expect_every_key_given(periodic_keys(), "periodic");
 }
 
