@@ -79,6 +79,11 @@ constexpr EnumName<OpenBoundaryType> kOpenBoundaryTypeNames[] = {{OpenBoundaryTy
                                                                  {OpenBoundaryType::outlet, "outlet"}};
 constexpr std::span<const EnumName<OpenBoundaryType>> enum_names(OpenBoundaryType) { return kOpenBoundaryTypeNames; }
 
+// What a force probe sums (ProbeSpec::terms).
+enum class ForceTerms { pressure, all };
+constexpr EnumName<ForceTerms> kForceTermsNames[] = {{ForceTerms::pressure, "pressure"}, {ForceTerms::all, "all"}};
+constexpr std::span<const EnumName<ForceTerms>> enum_names(ForceTerms) { return kForceTermsNames; }
+
 enum class ProbeType { displacement, structure_pressure, pressure, velocity, front, max_speed, water_level, force };
 constexpr EnumName<ProbeType> kProbeTypeNames[] = {{ProbeType::displacement, "displacement"},
                                                    {ProbeType::structure_pressure, "structure_pressure"},
@@ -238,14 +243,15 @@ struct LoadSpec {
 //  "water_level":  the height of the water surface on the vertical line through `point`, at or above
 //                  point's height (field h): a wave gauge.
 //  "force":        the fluid's pressure force on the wall or structure `body` (fields fx, fy[, fz];
-//                  per unit depth in 2D), with `viscous` its viscous traction too (walls), the time
-//                  mean over the fluid steps since the previous row; no point.
+//                  per unit depth in 2D), with terms = "all" on a wall also its viscous traction and
+//                  the impermeability condition's impulses; the time mean over the fluid steps since
+//                  the previous row; no point.
 struct ProbeSpec {
   std::string name;
   ProbeType type = ProbeType::displacement;
   std::array<double, 3> point{};
-  std::string body;      // "force": the body the force acts on
-  bool viscous = false;  // "force": with the fluid's viscous traction (on a wall body)
+  std::string body;                         // "force": the body the force acts on
+  ForceTerms terms = ForceTerms::pressure;  // "force": the pressure's, or all the fluid's (a wall body)
   bool operator==(const ProbeSpec&) const = default;
 };
 

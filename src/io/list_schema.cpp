@@ -185,10 +185,11 @@ std::vector<SchemaKey<ProbeSpec>> declare_probes() {
             [](const P& p, int) { return "only for type = \"force\" (" + is("type", p.type) + ")"; })
       .doc("name of the wall or structure body the force acts on");
   add(
-      keys, "viscous", [](P & p) -> auto& { return p.viscous; })
+      keys, "terms", [](P & p) -> auto& { return p.terms; })
       .only([](const P& p, int) { return p.type == ProbeType::force; }, "force",
             [](const P& p, int) { return "only for type = \"force\" (" + is("type", p.type) + ")"; })
-      .doc("add the fluid's viscous traction to the pressure force (a wall body; the drag of a cylinder)");
+      .doc(
+          R"(`"pressure"`: the pressure force; `"all"` (a wall body): also the viscous traction and the impulses of the projection's impermeability condition, the fluid's whole force, as a drag)");
   return keys;
 }
 

@@ -231,7 +231,11 @@ struct Project {
   Real density;
   Real dt;
   Vec<D>* u_new;
+  const Index* body = nullptr;      // with contact_force: the force of the condition on the walls
+  Vec<D>* contact_force = nullptr;  // per unit volume of a, on the body of the last face it met
+  Index* contact_body = nullptr;    // that body (-1: none)
   ISPH_HD void operator()(Index a) const {
+    if (contact_force) contact_force[a] = Vec<D>::zero(), contact_body[a] = -1;
     if (!v.is_fluid(a)) return;
     Vec<D> u = u_star[a] - (dt / density) * grad_p[a];
     const auto faced = [&](Index b) { return !v.is_fluid(b) && !v.is_open(b) && norm2(v.wall_normal[b]) > 0; };
@@ -246,7 +250,9 @@ struct Project {
       if (!(beyond < 0.5 * v.dx && (b == nearest || other_wall_face))) continue;
       const Vec<D> n = v.wall_normal[b];
       const Real approach = dot(u - v.wall_velocity[b], n);
-      if (approach < 0) u = u - approach * n;
+      if (!(approach < 0)) continue;
+      u = u - approach * n;
+      if (contact_force) contact_force[a] += (density * approach / dt) * n, contact_body[a] = body[b];
     }
     u_new[a] = u;
   }

@@ -46,7 +46,7 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
       fsi_shifting_law_(s.fsi_shifting_law),
       pairwise_force_(s.interaction_force == InteractionForce::pairwise),
       wall_force_(s.wall_force),
-      wall_viscous_force_(s.wall_viscous_force) {
+      wall_friction_(s.wall_friction) {
   ParticleSet<D>& ps = particles_;
   for (auto* v : {&x_old_, &u_star_, &u_new_, &u_collided_, &grad_p_, &surface_normal_, &shift_, &wall_moment_})
     *v = ps.array(Vec<D>::zero());
@@ -333,7 +333,7 @@ void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
     });
   else if (wall_force_)
     timer.time("wall_force", [&] { boundary_pressure_force(true, FluidKind::wall); });
-  if (wall_viscous_force_)  // with the new velocity (the flux form reads neither B^ nor G)
+  if (wall_friction_)  // with the new velocity (the flux form reads neither B^ nor G)
     timer.time("wall_force", [&] {
       const bool sps = settings_.turbulence == Turbulence::sps;
       particles_.record_wall_viscous_force(ViscousAcceleration<D>{v, Bhat_.data(), grad_u_.data(),
@@ -355,7 +355,10 @@ void IsphSolver<D>::project_and_advance(const FluidView<D>& v, const FluidView<D
                           .u_star = u_star_.data(),
                           .density = density_,
                           .dt = dt,
-                          .u_new = u_new_.data()});
+                          .u_new = u_new_.data(),
+                          .body = particles_.body.data(),
+                          .contact_force = wall_friction_ ? particles_.contact_force.data() : nullptr,
+                          .contact_body = particles_.contact_body.data()});
   if (settings_.collision.distance > 0) {
     parallel_for(exec_, n,
                  ParticleCollision<D>{.v = v,

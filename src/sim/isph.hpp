@@ -118,8 +118,8 @@ class IsphSolver final : public FluidModel<D> {
   bool fsi_shifting_;
   FsiLayerLaw fsi_shifting_law_;
   bool pairwise_force_;
-  bool wall_force_;          // FluidSetup::wall_force
-  bool wall_viscous_force_;  // FluidSetup::wall_viscous_force
+  bool wall_force_;     // FluidSetup::wall_force
+  bool wall_friction_;  // FluidSetup::wall_friction
   std::unique_ptr<LinearSolver> solver_, fallback_;
   std::string solver_name_;
 };

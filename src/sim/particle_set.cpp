@@ -61,7 +61,8 @@ ParticleSet<D>::ParticleSet(FluidSetup<D>& s)
   body = state_copy(s.body, managed);
   open_zone = state_copy(s.open_zone, managed);
   reference_position = position;
-  wall_acceleration = boundary_force = viscous_force = array(Vec<D>::zero());
+  wall_acceleration = boundary_force = viscous_force = contact_force = array(Vec<D>::zero());
+  contact_body = array(Index{-1});
   pressure = array(Real{0});
   for (auto* v : {&inside_, &permute_scratch_}) *v = StateVector<unsigned char>(allocator<unsigned char>());
   for (auto* v : {&body_distance_, &body_depth_, &power_density_, &block_sums_})
@@ -124,10 +125,10 @@ void ParticleSet<D>::build_neighbours(bool sort) {
 template <int D>
 void ParticleSet<D>::reorder(const Index* order, Index count) {
   for (auto* v : {&position, &velocity, &wall_velocity, &wall_acceleration, &wall_normal, &reference_normal,
-                  &reference_position, &boundary_force, &viscous_force})
+                  &reference_position, &boundary_force, &viscous_force, &contact_force})
     permute(*v, order, count);
   for (auto* v : {&pressure, &volume, &wall_depth}) permute(*v, order, count);
-  for (auto* v : {&id, &structure_index, &motion, &body, &open_zone}) permute(*v, order, count);
+  for (auto* v : {&id, &structure_index, &motion, &body, &open_zone, &contact_body}) permute(*v, order, count);
   permute(kind, order, count);
   permute(level, order, count);
   for (const auto& follow : followers_) follow(order, count);
@@ -393,11 +394,7 @@ Vec<D> ParticleSet<D>::gather_structure_force(std::span<Vec<D>> force_density) c
 // F_body = sum over the body's particles of V_a f_a, f_a the pressure force density on particle a.
 template <int D>
 Vec<D> ParticleSet<D>::body_force(Index body_index) const {
-  return summed(size(), ForceComponent<D>{.volume = volume.data(),
-                                          .force_density = boundary_force.data(),
-                                          .d = 0,
-                                          .body = body.data(),
-                                          .target = body_index});
+  return owned_sum(boundary_force, body, body_index);
 }
 
 template <int D>
@@ -407,10 +404,22 @@ void ParticleSet<D>::record_wall_viscous_force(const ViscousAcceleration<D>& vis
 
 template <int D>
 Vec<D> ParticleSet<D>::body_viscous_force(Index body_index) const {
+  return owned_sum(viscous_force, body, body_index);
+}
+
+template <int D>
+Vec<D> ParticleSet<D>::body_contact_force(Index body_index) const {
+  return owned_sum(contact_force, contact_body, body_index);
+}
+
+// sum_a V_a f_a over the particles a whose owner is the body.
+template <int D>
+Vec<D> ParticleSet<D>::owned_sum(const StateVector<Vec<D>>& force_density, const StateVector<Index>& owner,
+                                 Index body_index) const {
   return summed(size(), ForceComponent<D>{.volume = volume.data(),
-                                          .force_density = viscous_force.data(),
+                                          .force_density = force_density.data(),
                                           .d = 0,
-                                          .body = body.data(),
+                                          .body = owner.data(),
                                           .target = body_index});
 }
 

@@ -78,9 +78,9 @@ struct FluidSetup {
   bool fsi_shifting = true;     // the FSI shifting layer (Eqs. 27-30)
   FsiLayerLaw fsi_shifting_law = FsiLayerLaw::literal;
   InteractionForce interaction_force =
-      InteractionForce::pairwise;   // pairwise | gradient (Eq. 48 literally; structure/interaction.hpp)
-  bool wall_force = false;          // the walls' pressure force after every step (force probes), moving or not
-  bool wall_viscous_force = false;  // and their viscous traction (force probes with viscous = true)
+      InteractionForce::pairwise;  // pairwise | gradient (Eq. 48 literally; structure/interaction.hpp)
+  bool wall_force = false;         // the walls' pressure force after every step (force probes), moving or not
+  bool wall_friction = false;      // and their viscous and contact forces (force probes with terms = "all")
 
   const SmoothingKernel<D>& fluid_kernel() const { return kernels.kernel[fluid_level]; }
 };
@@ -153,6 +153,8 @@ class ParticleSet {
   StateVector<Vec<D>> reference_position;  // initial positions (moving walls follow their motion from them)
   StateVector<Vec<D>> boundary_force;      // pressure force per unit volume on wall and structure particles
   StateVector<Vec<D>> viscous_force;       // viscous force per unit volume on wall particles (when asked for)
+  StateVector<Vec<D>> contact_force;       // on fluid particles: the force per unit volume of the projection's
+  StateVector<Index> contact_body;         // impermeability condition on the body of a wall face (Project)
   Real time = 0;
   Real wall_work = 0;  // work done on the fluid by the moving walls' pressure and viscous traction
 
@@ -223,6 +225,8 @@ class ParticleSet {
   // it, the viscous force on the particles of one body.
   void record_wall_viscous_force(const ViscousAcceleration<D>& viscous);
   Vec<D> body_viscous_force(Index body_index) const;
+  // The force of the projection's impermeability condition on the wall particles of one body (Project).
+  Vec<D> body_contact_force(Index body_index) const;
   // The power of the moving walls on the fluid: their pressure's (from boundary_force) and their
   // viscous traction's (the last record_viscous_wall_power).
   Real moving_wall_power() const;
@@ -260,6 +264,8 @@ class ParticleSet {
   void restore(const SnapshotData& snapshot);
 
  private:
+  // sum_a V_a f_a over the particles whose `owner` entry is body_index (f: a force density).
+  Vec<D> owned_sum(const StateVector<Vec<D>>& force_density, const StateVector<Index>& owner, Index body_index) const;
   // Each component of sum_a V_a f_a (`component` over the first n particles, its d set per component).
   Vec<D> summed(Index n, ForceComponent<D> component) const;
   // The cell list and the neighbour list, after a re-sort by cell when `sort`.

@@ -95,8 +95,9 @@ class ForceProbes final : public Probe<D> {
   void after_step(Real dt) override {
     for (std::size_t i = 0; i < probes_.size(); ++i) {
       const ForceProbe& p = probes_[i];
-      impulse_[i] +=
-          dt * (particles_.body_force(p.body) + (p.viscous ? particles_.body_viscous_force(p.body) : Vec<D>::zero()));
+      impulse_[i] += dt * (particles_.body_force(p.body) +
+                           (p.all_terms ? particles_.body_viscous_force(p.body) + particles_.body_contact_force(p.body)
+                                        : Vec<D>::zero()));
     }
     window_ += dt;
   }

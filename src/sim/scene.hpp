@@ -34,8 +34,8 @@ struct FluidProbe {
 // The fluid's pressure force on a wall or structure body (io/case.hpp ProbeSpec "force").
 struct ForceProbe {
   std::string name;
-  Index body;            // index in the case's bodies
-  bool viscous = false;  // with the viscous traction (ParticleSet::body_viscous_force)
+  Index body;              // index in the case's bodies
+  bool all_terms = false;  // with the viscous and contact forces (ParticleSet::body_viscous_force, body_contact_force)
 };
 
 template <int D>

@@ -209,9 +209,10 @@ void place_fluid_probes(const CaseSpec& spec, const std::string& file, Scene<D>&
     if (p.type == ProbeType::force) {  // the loader checked that the body is a wall or a structure
       const auto body =
           std::find_if(spec.bodies.begin(), spec.bodies.end(), [&](const BodySpec& b) { return b.name == p.body; });
-      scene.force_probes.push_back({p.name, static_cast<Index>(body - spec.bodies.begin()), p.viscous});
+      const bool all_terms = p.terms == ForceTerms::all;
+      scene.force_probes.push_back({p.name, static_cast<Index>(body - spec.bodies.begin()), all_terms});
       f.wall_force = f.wall_force || body->kind == ParticleKind::wall;
-      f.wall_viscous_force = f.wall_viscous_force || (p.viscous && body->kind == ParticleKind::wall);
+      f.wall_friction = f.wall_friction || (all_terms && body->kind == ParticleKind::wall);
       continue;
     }
     const Vec<D> point = to_vec<D>(p.point);

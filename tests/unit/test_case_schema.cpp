@@ -308,7 +308,7 @@ point = [1.0, 0.4]
 name = "drag"
 type = "force"
 body = "floor"
-viscous = true
+terms = "all"
 [[open_boundaries]]
 name = "in"
 type = "inlet"
