@@ -24,9 +24,9 @@
 // plunging wave created 43 % more energy before 0.85 s and stopped at t sqrt(g/a) = 7.34;
 // docs/VALIDATION.md section 10). The hydrostatic field stays exact: the surface condition carries it there.
 //
-// Density-invariant term (density_relaxation gamma > 0, full rows only): with the particles' kernel sum
-// sigma_a = sum_b V_b W_ab (self included; walls count), S on a regular lattice (full_kernel_sum) and
-// S rho*/rho0 where the particles have spread or crowded, the row's source becomes
+// Density-invariant term (density_relaxation gamma > 0, full rows without a structure neighbour): with the
+// particles' kernel sum sigma_a = sum_b V_b W_ab (self included; walls count), S on a regular lattice
+// (full_kernel_sum) and S rho*/rho0 where the particles have spread or crowded, the row's source becomes
 // -(1/dt) <div u*>_a - gamma (1 - sigma_a / S) / dt^2, so that the projected velocity has
 // div u = gamma (sigma / S - 1) / dt: a region whose particles have spread contracts by the fraction
 // gamma of its deficit per step (the stabilised ISPH of Asai, Aly, Sonoda & Sakai 2012, J. Appl. Math.
@@ -188,12 +188,15 @@ struct PpeRowFill {
     }
   }
 
-  // sigma_a = V_a W(0) + sum_b V_b W_ab over every neighbour: the particles' number density times V.
+  // sigma_a = V_a W(0) + sum_b V_b W_ab over every neighbour: the particles' number density times V; the
+  // lattice's full_kernel_sum (no correction) beside a structure, whose particles lie on a lattice of
+  // their own (its sum there is not the water's at rest: 10 kPa in a clamped bar's water at rest).
   ISPH_HD Real kernel_sum(Index a, Index begin, Index end) const {
     const OperatorView<D>& op = v.op;
     Real sum = op.volume[a] * op.own_kernel(a).value(0);
     for (Index k = begin; k < end; ++k) {
       const Index b = op.nbr[k];
+      if (v.is_structure(b)) return full_kernel_sum;
       sum += op.volume[b] * op.kernel(a, b).value(sqrt(norm2(op.r(a, b))));
     }
     return sum;
