@@ -7,11 +7,14 @@
 
 The Courant number scaled is the fluid's (fluid.courant for ISPH, fluid.wcsph.acoustic_courant for
 WCSPH) where the case has a fluid, else the structure's (structure.courant); the shipped value is read
-from the factor-1 run's case.resolved.toml. Each point runs `isph run CASE --quiet --threads N
---set output.snapshots=false` into <out>/<case>/x<factor>/, and is stopped by SIGINT once it has run
-for its wall budget (BUDGETS below, else --budget): the solver then ends the step, writes summary.json
-with status "interrupted", and the table gives how far it got. A point whose summary.json and
-stability_run.json (the command) match is not run again, so the table can be resumed and extended.
+from the factor-1 run's case.resolved.toml. Each point runs `isph run CASE --quiet --threads N` into
+<out>/<case>/x<factor>/segment_1/, and is stopped by SIGINT once it has run for its wall budget (BUDGETS
+below, else --budget): the solver then ends the step, writes its last snapshot and summary.json with
+status "interrupted", and the table gives how far it got. A point whose summary.json and
+stability_run.json (the command) match is not run again, so the table can be resumed and extended; one
+the budget stopped continues, given a larger budget, from its last snapshot into segment_2/, and so on
+(`--restart`), so that a point longer than a session runs in parts. Its summary.json is the last
+segment's, with the wall time and steps of all.
 
 Columns: status (completed, diverged, interrupted by the budget), the steps taken (fluid steps, or
 structure steps without a fluid: the limit that binds may be another than the Courant number scaled,
@@ -25,6 +28,7 @@ import csv
 import glob
 import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -51,39 +55,60 @@ def factor_label(f):
     return f"x{f:g}"
 
 
+def run_segment(command, out, budget):
+    """Runs `command` into `out` for at most `budget` s, then stops it with SIGINT (the solver ends the
+    step and writes its last snapshot and summary.json); returns the exit status."""
+    os.makedirs(out, exist_ok=True)
+    with open(os.path.join(out, "stderr.txt"), "w") as err:
+        proc = subprocess.Popen(command + ["--out", out], cwd=ROOT, stderr=err, stdout=subprocess.DEVNULL)
+        try:
+            proc.wait(timeout=budget)
+        except subprocess.TimeoutExpired:
+            proc.send_signal(signal.SIGINT)
+            proc.wait()
+    return proc.returncode
+
+
 def run_point(args, case, folder, overrides, budget):
-    """Runs one point unless it is done with the same command; returns its summary (None on error)."""
-    command = [args.isph, "run", case, "--out", folder, "--quiet", "--threads", str(args.threads),
-               "--set", "output.snapshots=false"] + [a for o in overrides for a in ("--set", o)]
+    """Runs one point unless it is done with the same command, or continues it from its last snapshot
+    when the budget stopped it and this one is larger; returns its summary (None on error). The point's
+    summary.json is its last segment's, with the wall time and steps of all of them."""
+    command = [args.isph, "run", case, "--quiet", "--threads", str(args.threads)] + [
+        a for o in overrides for a in ("--set", o)]
     record_path, summary_path = os.path.join(folder, "stability_run.json"), os.path.join(folder, "summary.json")
+    segments = []
     if os.path.exists(record_path) and os.path.exists(summary_path):
         with open(record_path) as f:
             record = json.load(f)
         with open(summary_path) as g:
             summary = json.load(g)
-        # done, unless the budget stopped it and this one is larger
-        if record.get("command") == command[1:] and not (
-                summary["status"] == "interrupted" and budget > record.get("budget", 0)):
-            return summary
+        if record.get("command") == command[1:] and "segments" in record:
+            if not (summary["status"] == "interrupted" and budget > record.get("budget", 0)):
+                return summary
+            segments = record["segments"]
+    spent = sum(seg["wall_time_s"] for seg in segments)
     for stale in (record_path, summary_path):  # a stopped run must not look finished
         if os.path.exists(stale):
             os.remove(stale)
-    os.makedirs(folder, exist_ok=True)
-    print(f"run  {os.path.relpath(folder, args.out)}  (budget {budget} s)", flush=True)
-    with open(os.path.join(folder, "stderr.txt"), "w") as err:
-        proc = subprocess.Popen(command, cwd=ROOT, stderr=err, stdout=subprocess.DEVNULL)
-        try:
-            proc.wait(timeout=budget)
-        except subprocess.TimeoutExpired:
-            proc.send_signal(signal.SIGINT)  # ends the step, then writes summary.json
-            proc.wait()
-    if proc.returncode not in (0, 3, 4) and not os.path.exists(summary_path):
-        print(f"  error: exit {proc.returncode}; see {folder}/stderr.txt", file=sys.stderr)
+    out = os.path.join(folder, f"segment_{len(segments) + 1}")
+    restart = ["--restart", os.path.join(folder, segments[-1]["folder"])] if segments else []
+    print(f"run  {os.path.relpath(out, args.out)}  (budget {budget - spent:.0f} of {budget} s)", flush=True)
+    code = run_segment(command + restart, out, budget - spent)
+    if code not in (0, 3, 4) and not os.path.exists(os.path.join(out, "summary.json")):
+        print(f"  error: exit {code}; see {out}/stderr.txt", file=sys.stderr)
         return None
+    with open(os.path.join(out, "summary.json")) as f:
+        summary = json.load(f)
+    segments.append({"folder": os.path.basename(out), "returncode": code, "wall_time_s": summary["wall_time_s"],
+                     "steps": summary["steps"]})
+    summary["wall_time_s"] = sum(seg["wall_time_s"] for seg in segments)
+    summary["steps"] = {k: sum(seg["steps"][k] for seg in segments) for k in summary["steps"]}
+    shutil.copy(os.path.join(out, "case.resolved.toml"), os.path.join(folder, "case.resolved.toml"))
+    with open(summary_path, "w") as f:
+        json.dump(summary, f, indent=2)
     with open(record_path, "w") as f:
-        json.dump({"command": command[1:], "returncode": proc.returncode, "budget": budget}, f)
-    with open(summary_path) as f:
-        return json.load(f)
+        json.dump({"command": command[1:], "budget": budget, "segments": segments}, f)
+    return summary
 
 
 def row_of(name, factor, key, value, end_time, s):
@@ -172,7 +197,7 @@ def main():
     ap.add_argument("--factors", default="1,1.5,2")
     ap.add_argument("--budget", type=float, default=150, help="wall seconds per run where BUDGETS names none")
     ap.add_argument("--budgets", default="", help="NAME=SECONDS,... : these cases' budgets instead (a point the "
-                    "budget stopped runs again, to its end or the new budget, when the new one is larger)")
+                    "budget stopped continues from its last snapshot, to its end or the new budget, when the new one is larger)")
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--out", default=os.path.join(ROOT, "runs", "stability_table"))
     ap.add_argument("--isph", default=os.path.join(ROOT, "build", "isph"))
