@@ -221,3 +221,17 @@ type = "max_speed"
   const auto probes = read_csv(out / "run" / "probes.csv");
   EXPECT_LT(*std::max_element(probes.at("fastest.u").begin(), probes.at("fastest.u").end()), 1e-6);
 }
+
+// An inlet given a flow rate scales its profile's shape to carry it: a uniform shape ("1") at 0.02 m^2/s
+// for 0.5 s prescribes 10 kg per metre of depth, and lets in as much within a particle per lattice row.
+TEST(OpenBoundaries, FlowRateScalesTheProfile) {
+  const fs::path out = fresh_dir("channel_flow_rate");
+  const auto r =
+      regression::isph(kChannel + " --out " + out.string() +
+                       " --set end_time=0.5 --set output.snapshots=false"
+                       " --set 'open_boundaries.inlet.velocity=\"1\"' --set open_boundaries.inlet.flow_rate=0.02");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string summary = read_file(out / "summary.json");
+  EXPECT_NEAR(json_number(summary, "mass_prescribed"), 10.0, 1e-9) << summary;
+  EXPECT_NEAR(json_number(summary, "mass_in"), 10.0, 20 * 1000 * 0.01 * 0.01) << summary;
+}
