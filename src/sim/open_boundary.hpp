@@ -1,6 +1,6 @@
 #pragma once
-// Open boundaries of the fluid (issue 55; docs/CASES.md `open_boundaries`, docs/VALIDATION.md "Open
-// channel"): an inlet or an outlet is a plane with a unit normal n into the fluid and a buffer of
+// Open boundaries of the fluid (issue 55; docs/CASES.md `open_boundaries`, docs/VALIDATION.md sections
+// 34-35): an inlet or an outlet is a plane with a unit normal n into the fluid and a buffer of
 // particles behind it, a few particle spacings thick, after the buffer zones of Lastiwka, Basa &
 // Quinlan (2009, Int. J. Numer. Meth. Fluids 61:709) and Tafuni et al. (2018, CMAME 342:604).
 //
@@ -15,7 +15,8 @@
 //    has beside the plane, row by row (OutletVelocityPass: zero gradient along n); the buffer's PPE rows
 //    are Dirichlet, p = the outlet's pressure; a particle is removed at the far side.
 // The exchange runs after each fluid step (ParticleSet::exchange_open_boundaries), on the host, in
-// particle order, so that runs repeat exactly.
+// particle order, so that runs repeat exactly; snapshots carry each particle's boundary and the next
+// stable id, so that a restart recreates the particles an inlet made (ParticleSet::restore).
 #include <string>
 #include <vector>
 
@@ -45,7 +46,7 @@ struct OpenZone {
   bool steady_at(Real t) const { return !velocity.uses_time() && t >= ramp_time; }
 };
 
-// Flows through one open boundary over a run, for summary.json.
+// Flows through one open boundary over a run (a restart counts anew), for summary.json.
 struct OpenZoneFlow {
   long long crossed = 0;       // particles that crossed the plane (into the fluid at an inlet, out at an outlet)
   Real volume_crossed = 0;     // their volume
