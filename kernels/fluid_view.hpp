@@ -62,6 +62,21 @@ struct FluidView {
     return 0.5 * (1 + cos(pi * (q - 0.5) / 0.5));
   }
 
+  // sum_b (V_b / V_a) W_ab over a's neighbours and a itself (walls complete the support): a's number
+  // density times V_a, lattice_kernel_sum on a regular lattice of a's spacing. A neighbour counts with its
+  // volume's share, so that the smaller particles of a finer structure count less; `beside_structure`
+  // says whether one is a structure particle (on a lattice of its own, not the fluid's).
+  ISPH_HD Real kernel_sum(Index a, bool& beside_structure) const {
+    Real s = op.own_kernel(a).value(0);
+    beside_structure = false;
+    for (Index k = op.nbr_offset[a]; k < op.nbr_offset[a + 1]; ++k) {
+      const Index b = op.nbr[k];
+      beside_structure = beside_structure || is_structure(b);
+      s += (op.volume[b] / op.volume[a]) * op.kernel(a, b).value(sqrt(norm2(op.r(a, b))));
+    }
+    return s;
+  }
+
   // The neighbour of a nearest to it among those `keep(b)` accepts, or -1; its squared distance in r2.
   template <class Keep>
   ISPH_HD Index nearest_neighbour(Index a, Keep keep, Real& r2) const {

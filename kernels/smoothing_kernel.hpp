@@ -72,18 +72,18 @@ struct SmoothingKernel {
   }
 };
 
-// Sum of f(r) over the points r of a full lattice of spacing dx within the kernel's support of the
-// origin (the origin included): the values a particle in a regular interior sees.
-template <int D, class F>
-Real lattice_sum(const SmoothingKernel<D>& kernel, Real dx, F f) {
+// Sum of W(|r|) over the points r of a full lattice of spacing dx within the kernel's support of the
+// origin, the origin included: the kernel sum a particle in a regular interior sees (FluidView::kernel_sum).
+template <int D>
+Real lattice_kernel_sum(const SmoothingKernel<D>& kernel, Real dx) {
   const int reach = static_cast<int>(std::ceil(kernel.support() / dx));
   int index[D];
   for (int d = 0; d < D; ++d) index[d] = -reach;
   Real sum = 0;
   while (true) {
-    Vec<D> r;
-    for (int d = 0; d < D; ++d) r[d] = index[d] * dx;
-    sum += f(r);
+    Real r2 = 0;
+    for (int d = 0; d < D; ++d) r2 += (index[d] * dx) * (index[d] * dx);
+    sum += kernel.value(std::sqrt(r2));
     int d = 0;
     while (d < D && ++index[d] > reach) index[d++] = -reach;
     if (d == D) break;

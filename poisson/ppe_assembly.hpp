@@ -24,15 +24,16 @@
 // plunging wave created 43 % more energy before 0.85 s and stopped at t sqrt(g/a) = 7.34;
 // docs/VALIDATION.md section 10). The hydrostatic field stays exact: the surface condition carries it there.
 //
-// Density-invariant term (density_relaxation gamma > 0, full rows without a structure neighbour): with the
-// particles' kernel sum sigma_a = sum_b V_b W_ab (self included; walls count), S on a regular lattice
-// (full_kernel_sum) and S rho*/rho0 where the particles have spread or crowded, the row's source becomes
+// Density-invariant term (density_relaxation gamma > 0, full rows): with the particles' kernel sum
+// sigma_a = sum_b (V_b / V_a) W_ab (FluidView::kernel_sum; self included, walls count), S on a regular
+// lattice (full_kernel_sum) and S rho*/rho0 where the particles have spread or crowded, the row's source becomes
 // -(1/dt) <div u*>_a - gamma (1 - sigma_a / S) / dt^2, so that the projected velocity has
 // div u = gamma (sigma / S - 1) / dt: a region whose particles have spread contracts by the fraction
 // gamma of its deficit per step (the stabilised ISPH of Asai, Aly, Sonoda & Sakai 2012, J. Appl. Math.
 // 2012:139583). ISPH keeps div u = 0 but not the particles' spacing: in an open channel the flow around
 // an obstacle spread the particles at its shoulders until more fluid left through the outlet than came
-// in (docs/VALIDATION.md section 35).
+// in (docs/VALIDATION.md section 35). Rows beside a structure take no such term: its particles lie on a
+// lattice of their own, where sigma is not S even at rest (10 kPa in the water around a clamped bar).
 //
 // Free-surface condition, blended by Skillen's coefficient alpha_a (Eq. 17). With the PPE row divided
 // by its diagonal, P_a(p) = 0, and a surface condition S_a(p) = 0, row a is
@@ -110,7 +111,7 @@ struct PpeRowFill {
   const Real* structure_inverse_density = nullptr;  // 1 / rho_s, indexed as in TLSPH
   Real added_mass = 0;                              // beta (0: the rows take a_s as given)
   Real density_relaxation = 0;                      // gamma of the density term (see above)
-  Real full_kernel_sum = 1;                         // sum_b V_b W_ab over a regular lattice's full support
+  Real full_kernel_sum = 1;                         // FluidView::kernel_sum on a regular lattice
 
   ISPH_HD void operator()(Index a) const {
     const OperatorView<D>& op = v.op;
@@ -168,8 +169,10 @@ struct PpeRowFill {
       for (Index k = begin; k < end; ++k) val[row + 1 + (k - begin)] *= al / diagonal;
       val[row] = al;
       rhs[a] = -al * div_u_star[a] / (dt * diagonal);
-      if (al == 1 && density_relaxation > 0)  // spread particles drawn together (see above)
-        rhs[a] -= density_relaxation * (1 - kernel_sum(a, begin, end) / full_kernel_sum) / (dt * dt * diagonal);
+      if (bool beside_structure; al == 1 && density_relaxation > 0) {  // spread particles drawn together (above)
+        const Real sigma = v.kernel_sum(a, beside_structure);
+        if (!beside_structure) rhs[a] -= density_relaxation * (1 - sigma / full_kernel_sum) / (dt * dt * diagonal);
+      }
     } else {
       val[row] = 0;
     }
@@ -186,20 +189,6 @@ struct PpeRowFill {
     } else if (al < 1) {  // (1 - alpha) p_a
       val[row] += 1 - al;
     }
-  }
-
-  // sigma_a = V_a W(0) + sum_b V_b W_ab over every neighbour: the particles' number density times V; the
-  // lattice's full_kernel_sum (no correction) beside a structure, whose particles lie on a lattice of
-  // their own (its sum there is not the water's at rest: 10 kPa in a clamped bar's water at rest).
-  ISPH_HD Real kernel_sum(Index a, Index begin, Index end) const {
-    const OperatorView<D>& op = v.op;
-    Real sum = op.volume[a] * op.own_kernel(a).value(0);
-    for (Index k = begin; k < end; ++k) {
-      const Index b = op.nbr[k];
-      if (v.is_structure(b)) return full_kernel_sum;
-      sum += op.volume[b] * op.kernel(a, b).value(sqrt(norm2(op.r(a, b))));
-    }
-    return sum;
   }
 
   ISPH_HD void wall_row(Index a, Index begin, Index end, Index row) const {

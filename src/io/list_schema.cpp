@@ -89,16 +89,7 @@ std::vector<SchemaKey<LoadSpec>> declare_loads() {
   using L = LoadSpec;
   std::vector<SchemaKey<L>> keys;
   // Only for loads of these types.
-  const auto of = [](std::vector<LoadType> types) {
-    std::string text, message;
-    for (std::size_t i = 0; i < types.size(); ++i) {
-      text += (i ? ", " : "") + name_of(types[i]);
-      message += (i ? " or " : "") + quoted(name_of(types[i]));
-    }
-    return std::tuple{
-        [types](const L& l, int) { return std::find(types.begin(), types.end(), l.type) != types.end(); }, text,
-        [message](const L& l, int) { return "only for type = " + message + " (" + is("type", l.type) + ")"; }};
-  };
+  const auto of = [](std::vector<LoadType> types) { return only_where(&L::type, "type", std::move(types)); };
   add(
       keys, "type", [](L & l) -> auto& { return l.type; })
       .required()
@@ -178,16 +169,15 @@ std::vector<SchemaKey<ProbeSpec>> declare_probes() {
       .required_when([](const P& p) { return p.type != ProbeType::max_speed && p.type != ProbeType::force; },
                      R"(required (except "max_speed" and "force"))")
       .doc("see below");
-  add(
-      keys, "body", [](P & p) -> auto& { return p.body; })
-      .required_when([](const P& p) { return p.type == ProbeType::force; }, R"(required for "force")")
-      .only([](const P& p, int) { return p.type == ProbeType::force; }, "force",
-            [](const P& p, int) { return "only for type = \"force\" (" + is("type", p.type) + ")"; })
+  const auto force_only = only_where(&P::type, "type", {ProbeType::force});
+  only(add(
+           keys, "body", [](P & p) -> auto& { return p.body; })
+           .required_when([](const P& p) { return p.type == ProbeType::force; }, R"(required for "force")"),
+       force_only)
       .doc("name of the wall or structure body the force acts on");
-  add(
-      keys, "terms", [](P & p) -> auto& { return p.terms; })
-      .only([](const P& p, int) { return p.type == ProbeType::force; }, "force",
-            [](const P& p, int) { return "only for type = \"force\" (" + is("type", p.type) + ")"; })
+  only(add(
+           keys, "terms", [](P & p) -> auto& { return p.terms; }),
+       force_only)
       .doc(
           R"(`"pressure"`: the pressure force; `"all"` (a wall body): also the viscous traction and the impulses of the projection's impermeability condition, the fluid's whole force, as a drag)");
   return keys;
@@ -196,12 +186,7 @@ std::vector<SchemaKey<ProbeSpec>> declare_probes() {
 std::vector<SchemaKey<OpenBoundarySpec>> declare_open_boundaries() {
   using O = OpenBoundarySpec;
   std::vector<SchemaKey<O>> keys;
-  const auto for_type = [](OpenBoundaryType type) {
-    return std::tuple{[type](const O& o, int) { return o.type == type; }, name_of(type),
-                      [type](const O& o, int) {
-                        return "only for type = " + quoted(name_of(type)) + " (" + is("type", o.type) + ")";
-                      }};
-  };
+  const auto for_type = [](OpenBoundaryType type) { return only_where(&O::type, "type", {type}); };
   add(
       keys, "name", [](O & o) -> auto& { return o.name; })
       .required()

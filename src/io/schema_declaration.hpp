@@ -69,6 +69,24 @@ class Declaration {
   SchemaKey<Item>& key_;
 };
 
+// The rule (when, for_text, not_for) of keys for the elements whose `key` (the enum `member`) is one of
+// `values`: for_text "edge, traction", not_for "only for type = "edge" or "traction" (type = "point")".
+template <class Item, class E>
+auto only_where(E Item::*member, const std::string& key, std::vector<E> values) {
+  std::string text, message;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    text += (i ? ", " : "") + name_of(values[i]);
+    message += (i ? " or " : "") + quoted(name_of(values[i]));
+  }
+  return std::tuple{[member, values](const Item& x, int) {
+                      return std::find(values.begin(), values.end(), x.*member) != values.end();
+                    },
+                    text,
+                    [member, key, message](const Item& x, int) {
+                      return "only for " + key + " = " + message + " (" + is(key, x.*member) + ")";
+                    }};
+}
+
 // Declaration::only from a rule (when, for_text, not_for) that several keys of a list share.
 template <class Item, class Rule>
 Declaration<Item> only(Declaration<Item> d, const Rule& rule) {

@@ -79,7 +79,7 @@ struct ViscousAcceleration {
   template <class Term>
   ISPH_HD void for_each_term(Index a, bool flux_form, Term term) const {
     const OperatorView<D>& op = v.op;
-    const Real nu_a = viscosity + (eddy_viscosity ? eddy_viscosity[a] : 0);
+    const Real nu_a = viscosity_at(a);
     const Mat<D> I = Mat<D>::identity();
     const bool bounded = !flux_form && positive_definite(Bhat[a] - 0.5 * I) && positive_definite(2.0 * I - Bhat[a]);
     const Mat<D> bhat = bounded ? Bhat[a] : I;
@@ -89,13 +89,17 @@ struct ViscousAcceleration {
       term(b, pair_term(a, b, nu_a, bhat, G));
     }
   }
+  // nu = laminar + eddy (the eddy viscosity lives on fluid particles only).
+  ISPH_HD Real viscosity_at(Index a) const {
+    return viscosity + (eddy_viscosity && v.is_fluid(a) ? eddy_viscosity[a] : 0);
+  }
   // The pair term c_ab of for_each_term, given a's viscosity, B^ and G (zero for b = a).
   ISPH_HD Vec<D> pair_term(Index a, Index b, Real nu_a, const Mat<D>& bhat, const Mat<D>& G) const {
     const OperatorView<D>& op = v.op;
     const Vec<D> r_ab = op.r(a, b);
     const Real rho = sqrt(norm2(r_ab));
     if (!(rho > 0)) return Vec<D>::zero();
-    const Real nu_b = viscosity + (eddy_viscosity && v.is_fluid(b) ? eddy_viscosity[b] : 0);
+    const Real nu_b = viscosity_at(b);
     const Real w = 0.5 * (nu_a + nu_b) * laplacian_pair_weight(bhat, r_ab, rho, op.volume[b] * op.gradient(a, b, r_ab));
     return (w / rho) * (u[a] - v.velocity_seen(a, b, u) - G * r_ab);
   }
@@ -145,8 +149,7 @@ struct ViscousWallForce {
       for (Index k = v.op.nbr_offset[w]; k < v.op.nbr_offset[w + 1]; ++k) {
         const Index a = v.op.nbr[k];
         if (!v.is_fluid(a)) continue;
-        const Real nu_a = viscous.viscosity + (viscous.eddy_viscosity ? viscous.eddy_viscosity[a] : 0);
-        f += v.op.volume[a] * viscous.pair_term(a, w, nu_a, Mat<D>::identity(), Mat<D>::zero());
+        f += v.op.volume[a] * viscous.pair_term(a, w, viscous.viscosity_at(a), Mat<D>::identity(), Mat<D>::zero());
       }
     force_density[w] = (-density / v.op.volume[w]) * f;
   }
@@ -160,11 +163,13 @@ struct ViscousWallForce {
 // rows flattened the channel's profile at the outlet to 4.4 % of its peak; buffer particles that kept
 // the velocity they crossed with were overtaken by faster ones behind them as the inflow ramped up,
 // and the buffer drew fluid out of the channel: docs/VALIDATION.md section 34.)
+// The last pass also sets the buffer's wall velocity, with which it moves (Drift, Advance).
 template <int D>
 struct OutletVelocityPass {
   FluidView<D> v;
   const Vec<D>* in;
   Vec<D>* out;
+  Vec<D>* wall_velocity = nullptr;  // the last pass's
   ISPH_HD void operator()(Index b) const {
     out[b] = in[b];
     if (!v.is_outlet(b)) return;
@@ -176,17 +181,7 @@ struct OutletVelocityPass {
       const Real d2 = norm2(ahead + v.op.r(b, a));  // |x_a - (x_b + ahead)|^2
       if (d2 < nearest2) nearest2 = d2, out[b] = in[a];
     }
-  }
-};
-
-// After the passes: an outlet's buffer particles move with their velocity (Drift, Advance).
-template <int D>
-struct OutletWallVelocity {
-  FluidView<D> v;
-  const Vec<D>* velocity;
-  Vec<D>* wall_velocity;
-  ISPH_HD void operator()(Index b) const {
-    if (v.is_outlet(b)) wall_velocity[b] = velocity[b];
+    if (wall_velocity) wall_velocity[b] = out[b];
   }
 };
 

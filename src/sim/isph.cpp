@@ -70,8 +70,7 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
     m->col = StateVector<int>(ps.template allocator<int>());
     m->val = StateVector<double>(ps.template allocator<double>());
   }
-  full_kernel_sum_ = std::pow(s.dx, D) *
-                     lattice_sum(kernel_, s.dx, [&](const Vec<D>& r) { return kernel_.value(std::sqrt(norm2(r))); });
+  full_kernel_sum_ = lattice_kernel_sum(kernel_, s.dx);
   const Real full = D;  // div r in a full support
   thresholds_.chi = settings_.surface_threshold > 0 ? settings_.surface_threshold : full - 0.6;
   thresholds_.chi_full = settings_.surface_full > 0 ? settings_.surface_full : full - 0.4;

@@ -112,7 +112,7 @@ class IsphSolver final : public FluidModel<D> {
   Real added_mass_ = 0;
   bool kernel_correction_;
   SurfaceThresholds thresholds_;
-  Real full_kernel_sum_;  // sum_b V_b W_ab on a regular lattice (PpeRowFill's density term)
+  Real full_kernel_sum_;  // FluidView::kernel_sum on a regular lattice (PpeRowFill's density term)
   ShiftingType shifting_;
   bool extrapolate_surface_;
   bool fsi_shifting_;

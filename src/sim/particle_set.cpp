@@ -73,6 +73,7 @@ ParticleSet<D>::ParticleSet(FluidSetup<D>& s)
   structure_volume_ = StateVector<Real>(allocator<Real>());
   open_rows_ = StateVector<OpenZoneRow>(allocator<OpenZoneRow>());
   outlet_velocity_ = StateVector<Vec<D>>(allocator<Vec<D>>());
+  exchange_order_ = StateVector<Index>(allocator<Index>());
   for (const OpenZone<D>& z : open_zones_) open_rows_.push_back({z.outlet, z.pressure});
   open_flows_.assign(open_zones_.size(), {});
   for (std::size_t k = 0; k < n; ++k) next_id_ = std::max(next_id_, s.id[k] + 1);
@@ -182,11 +183,13 @@ void ParticleSet<D>::carry_outlet_velocity() {
   for (const OpenZone<D>& z : open_zones_) thickness = std::max(thickness, z.thickness);
   const int passes = static_cast<int>(std::ceil(thickness / dx_ - 1e-9)) + 1;
   outlet_velocity_.resize(position.size());
+  const FluidView<D> v = view();
   for (int pass = 0; pass < passes; ++pass) {
-    parallel_for(exec_, size(), OutletVelocityPass<D>{view(), velocity.data(), outlet_velocity_.data()});
+    parallel_for(exec_, size(),
+                 OutletVelocityPass<D>{v, velocity.data(), outlet_velocity_.data(),
+                                       pass == passes - 1 ? wall_velocity.data() : nullptr});
     velocity.swap(outlet_velocity_);
   }
-  parallel_for(exec_, size(), OutletWallVelocity<D>{view(), velocity.data(), wall_velocity.data()});
 }
 
 template <int D>
@@ -204,9 +207,10 @@ void ParticleSet<D>::exchange_open_boundaries(Real dt) {
   if (open_zones_.empty()) return;
   const Index n = size();
   carry_outlet_velocity();
-  StateVector<Index> order(allocator<Index>());  // the particles kept, then the inlet crossers' copies
-  std::vector<Index> entered;                    // inlet crossers, by their index in `order`
-  order.reserve(n);
+  StateVector<Index>& order = exchange_order_;      // the particles kept, then the inlet crossers' copies
+  std::vector<Index>& entered = exchange_entered_;  // inlet crossers, by their index in `order`
+  order.clear();
+  entered.clear();
   for (Index a = 0; a < n; ++a) {
     Index z = open_zone[a];
     if (z < 0 && kind[a] == FluidKind::fluid)  // fluid that crossed an outlet's plane joins its buffer
@@ -309,10 +313,8 @@ void ParticleSet<D>::restore(const SnapshotData& snapshot) {
       created.push_back(r);
       keep.push_back(*source);
     }
-  if (static_cast<Index>(keep.size()) != size() || kept != size()) {
+  if (static_cast<Index>(keep.size()) != size() || kept != size())
     reorder(keep.data(), static_cast<Index>(keep.size()));
-    count_kinds();
-  }
   for (Index a = 0; a < size(); ++a) {
     const std::size_t r = a < kept ? static_cast<std::size_t>(row[id[a]]) : created[a - kept];
     position[a] = snapshot_vector<D>(x, r);

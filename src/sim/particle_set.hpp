@@ -310,6 +310,8 @@ class ParticleSet {
   std::vector<OpenZone<D>> open_zones_;
   StateVector<OpenZoneRow> open_rows_;   // per zone, for the PPE rows (FluidView)
   StateVector<Vec<D>> outlet_velocity_;  // carry_outlet_velocity's other buffer
+  StateVector<Index> exchange_order_;    // exchange_open_boundaries' scratch, kept across steps
+  std::vector<Index> exchange_entered_;
   std::vector<OpenZoneFlow> open_flows_;
   Index next_id_ = 0;  // the stable id of the next particle created
   Real density_, dx_;

@@ -29,8 +29,7 @@ WcsphSolver<D>::WcsphSolver(FluidSetup<D> s)
   const Index n = ps.size();
   sound_speed_ =
       s.settings.wcsph.sound_speed > 0 ? s.settings.wcsph.sound_speed : 10 * std::sqrt(2.0) * reference_velocity_;
-  self_weight_ = kernel_.value(0);
-  full_sum_ = lattice_sum(kernel_, s.dx, [&](const Vec<D>& r) { return kernel_.value(std::sqrt(norm2(r))); });
+  full_sum_ = lattice_kernel_sum(kernel_, s.dx);
   rho_ = ps.array(density_);
   drho_dt_ = ps.array(Real{0});
   for (auto* v : {&acceleration_, &viscous_}) *v = ps.array(Vec<D>::zero());
@@ -111,7 +110,6 @@ void WcsphSolver<D>::configure(Real dt, PhaseTimer& timer) {
       parallel_for(exec_, n,
                    DensityReinitialisation<D>{.v = v,
                                               .density = density_,
-                                              .self_weight = self_weight_,
                                               .full_sum = full_sum_,
                                               .free_surface = settings_.free_surface,
                                               .rho = rho_.data()});

@@ -95,7 +95,7 @@ class WcsphSolver final : public FluidModel<D> {
   StateVector<Vec<D>> acceleration_, viscous_;  // pressure acceleration (a^n of Verlet), viscous acceleration
   StateVector<Mat<D>> L_, Bhat_, grad_u_;
   StateVector<Mat<D>> impedance_;  // boundary particles' Z (with a structure only)
-  Real sound_speed_, self_weight_, full_sum_;
+  Real sound_speed_, full_sum_;
   Real advection_courant_, acoustic_courant_, limiter_;
   bool dual_, kernel_correction_, forces_current_ = false;
   long long advection_steps_ = 0, acoustic_steps_ = 0;

@@ -11,24 +11,18 @@ namespace isph {
 
 // Density reinitialisation at the start of an advection step, seed 002 Eqs. 11-12:
 //   free surface: rho_a = max(rho*_a, rho0 sum_b W_ab / sum_b W0_ab),  otherwise rho_a = rho0 sum_b W_ab / sum_b W0_ab,
-// with the sums over all neighbours (walls complete the support) and a itself; sum W0 is the sum of a
-// full lattice of spacing dx (the initial particle arrangement). A neighbour counts with its volume
-// relative to a's, V_b / V_a (its mass's share: the particles of a finer structure are smaller; 1 on one
-// resolution).
+// with the sums over all neighbours and a itself (FluidView::kernel_sum, each neighbour with its mass's
+// share V_b / V_a); sum W0 is the sum of a full lattice of spacing dx (the initial particle arrangement).
 template <int D>
 struct DensityReinitialisation {
   FluidView<D> v;
-  Real density, self_weight, full_sum;
+  Real density, full_sum;
   bool free_surface;
   Real* rho;
   ISPH_HD void operator()(Index a) const {
     if (!v.is_fluid(a)) return;
-    Real s = self_weight;
-    for (Index k = v.op.nbr_offset[a]; k < v.op.nbr_offset[a + 1]; ++k) {
-      const Index b = v.op.nbr[k];
-      s += (v.op.volume[b] / v.op.volume[a]) * v.op.kernel(a, b).value(sqrt(norm2(v.op.r(a, b))));
-    }
-    const Real rho_sum = density * s / full_sum;
+    bool beside_structure;
+    const Real rho_sum = density * v.kernel_sum(a, beside_structure) / full_sum;
     rho[a] = free_surface ? fmax(rho[a], rho_sum) : rho_sum;
   }
 };

@@ -12,6 +12,16 @@ namespace {
 const std::string kChannel = "run " + kCases + "poiseuille_channel.toml --quiet";
 constexpr double kHeight = 0.2, kMeanVelocity = 0.1;
 
+constexpr double kParticleMass = 1000 * 0.01 * 0.01;  // rho dx^2, per metre of depth
+
+// The channel run with `settings` and no snapshots into a fresh folder: its summary.json ("" if it failed).
+std::string channel_summary(const std::string& name, const std::string& settings) {
+  const fs::path out = fresh_dir(name);
+  const auto r = regression::isph(kChannel + " --out " + out.string() + " --set output.snapshots=false " + settings);
+  EXPECT_EQ(r.status, 0) << r.output;
+  return r.status == 0 ? read_file(out / "summary.json") : "";
+}
+
 // The plane Poiseuille profile of the case's inflow.
 double poiseuille(double y) { return 1.5 * kMeanVelocity * 4 * y * (kHeight - y) / (kHeight * kHeight); }
 
@@ -54,11 +64,10 @@ TEST(OpenBoundaries, PoiseuilleChannelKeepsItsProfileAndItsMass) {
   EXPECT_NEAR(viscous_drag, 17.45, 0.2);
 
   const std::string summary = read_file(out / "summary.json");
-  const double particle_mass = 1000 * 0.01 * 0.01;
-  EXPECT_NEAR(json_number(summary, "mass_in"), json_number(summary, "mass_prescribed"), 20 * particle_mass) << summary;
+  EXPECT_NEAR(json_number(summary, "mass_in"), json_number(summary, "mass_prescribed"), 20 * kParticleMass) << summary;
   EXPECT_NEAR(json_number(summary, "mass_prescribed"), 1000 * kMeanVelocity * kHeight * 2.0, 0.01 * 40) << summary;
   EXPECT_LT(std::abs(json_number(summary, "mass_balance")), 1e-12) << summary;
-  EXPECT_NEAR(json_number(summary, "fluid_mass_change"), 0, 5 * particle_mass) << summary;  // steady: in = out
+  EXPECT_NEAR(json_number(summary, "fluid_mass_change"), 0, 5 * kParticleMass) << summary;  // steady: in = out
 }
 
 // Stopped at 0.25 s and continued to 0.6 s, the channel ends with the uninterrupted run's bits: the
@@ -101,16 +110,11 @@ TEST(OpenBoundaries, BadInputIsAClearErrorNamingTheKey) {
 // buffer moves with the fluid beside it, so that it neither holds the flow back nor draws it out (a
 // buffer that kept the velocity its particles crossed with, at rest at the start, blocked the channel).
 TEST(OpenBoundaries, StartedFromRestTheOutletPassesWhatTheInletFeeds) {
-  const fs::path out = fresh_dir("channel_from_rest");
-  const auto r =
-      regression::isph(kChannel + " --out " + out.string() +
-                       " --set open_boundaries.inlet.ramp_time=1.0 --set 'bodies.oil.initial_velocity={type=\"none\"}'"
-                       " --set output.snapshots=false");
-  ASSERT_EQ(r.status, 0) << r.output;
-  const std::string summary = read_file(out / "summary.json");
-  const double particle_mass = 1000 * 0.01 * 0.01;
-  EXPECT_NEAR(json_number(summary, "mass_in"), 1000 * kMeanVelocity * kHeight * 1.5, 20 * particle_mass) << summary;
-  EXPECT_NEAR(json_number(summary, "fluid_mass_change"), 0, 3 * particle_mass) << summary;
+  const std::string summary =
+      channel_summary("channel_from_rest",
+                      "--set open_boundaries.inlet.ramp_time=1.0 --set 'bodies.oil.initial_velocity={type=\"none\"}'");
+  EXPECT_NEAR(json_number(summary, "mass_in"), 1000 * kMeanVelocity * kHeight * 1.5, 20 * kParticleMass) << summary;
+  EXPECT_NEAR(json_number(summary, "fluid_mass_change"), 0, 3 * kParticleMass) << summary;
 }
 
 // The flow around the cylinder of cases/dfg_cylinder.toml spreads the particles at its shoulders: with
@@ -225,13 +229,9 @@ type = "max_speed"
 // An inlet given a flow rate scales its profile's shape to carry it: a uniform shape ("1") at 0.02 m^2/s
 // for 0.5 s prescribes 10 kg per metre of depth, and lets in as much within a particle per lattice row.
 TEST(OpenBoundaries, FlowRateScalesTheProfile) {
-  const fs::path out = fresh_dir("channel_flow_rate");
-  const auto r =
-      regression::isph(kChannel + " --out " + out.string() +
-                       " --set end_time=0.5 --set output.snapshots=false"
-                       " --set 'open_boundaries.inlet.velocity=\"1\"' --set open_boundaries.inlet.flow_rate=0.02");
-  ASSERT_EQ(r.status, 0) << r.output;
-  const std::string summary = read_file(out / "summary.json");
+  const std::string summary = channel_summary("channel_flow_rate",
+                                              "--set end_time=0.5 --set 'open_boundaries.inlet.velocity=\"1\"' "
+                                              "--set open_boundaries.inlet.flow_rate=0.02");
   EXPECT_NEAR(json_number(summary, "mass_prescribed"), 10.0, 1e-9) << summary;
-  EXPECT_NEAR(json_number(summary, "mass_in"), 10.0, 20 * 1000 * 0.01 * 0.01) << summary;
+  EXPECT_NEAR(json_number(summary, "mass_in"), 10.0, 20 * kParticleMass) << summary;
 }
