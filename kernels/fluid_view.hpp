@@ -105,11 +105,15 @@ struct FluidView {
   // distance and equals U_w on the wall exactly, so the viscous term of a linear shear is zero.
   // An open boundary's buffer particle is seen with its own velocity.
   ISPH_HD Vec<D> velocity_seen(Index a, Index b, const Vec<D>* u) const {
-    if (is_fluid(b)) return u[b];
-    if (is_open(b)) return wall_velocity[b];
+    if (is_fluid(b) || is_open(b)) return is_fluid(b) ? u[b] : wall_velocity[b];
     const Vec<D> uw = wall_velocity[b];
-    const Real da = fmax(beyond_surface(a, b), 0.5 * dx);
-    return uw - (wall_depth[b] / da) * (u[a] - uw);
+    return uw - (no_slip_gain(a, b) - 1) * (u[a] - uw);
+  }
+  // d(u_a - u_b)/dU_b of the velocity a sees at boundary particle b: 1 + d_b / d_a (1 for fluid and
+  // buffer particles).
+  ISPH_HD Real no_slip_gain(Index a, Index b) const {
+    if (is_fluid(b) || is_open(b)) return 1;
+    return 1 + wall_depth[b] / fmax(beyond_surface(a, b), 0.5 * dx);
   }
 
   // The free-slip (mirror) extension instead: the wall particle carries a's velocity relative to the

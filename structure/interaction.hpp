@@ -58,6 +58,15 @@ struct InteractionAcceleration {
   ISPH_HD void operator()(Index a) const { alpha[a] = (1.0 / density[a]) * force_density[a]; }
 };
 
+// Gamma_s = (Z_s / rho_s) I of an isotropic resistance Z_s (the fluid's shear: ViscousBoundaryForce).
+template <int D>
+struct IsotropicRate {
+  const Real* impedance;
+  const Real* density;
+  Mat<D>* rate;
+  ISPH_HD void operator()(Index a) const { rate[a] = (impedance[a] / density[a]) * Mat<D>::identity(); }
+};
+
 // Component d of V_s f_s, whose sum over the structure's particles is the pressure force on it; with
 // `body`, only the particles of body `target` count (a force probe's body, ParticleSet::body_force).
 template <int D>

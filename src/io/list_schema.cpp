@@ -179,7 +179,7 @@ std::vector<SchemaKey<ProbeSpec>> declare_probes() {
            keys, "terms", [](P & p) -> auto& { return p.terms; }),
        force_only)
       .doc(
-          R"(`"pressure"`: the pressure force; `"all"` (a wall body): also the viscous traction and the impulses of the projection's impermeability condition, the fluid's whole force, as a drag)");
+          R"(`"pressure"`: the pressure force; `"all"`: also the viscous traction and the impulses of the projection's impermeability condition, the fluid's whole force, as a drag (a structure feels the first, not the second))");
   return keys;
 }
 

@@ -43,6 +43,7 @@ StructureCoupling<D>::StructureCoupling(TlsphSetup<D> setup, const CouplingSpec&
     *v = StateVector<Vec<D>>(n, Vec<D>::zero(), vectors);
   v_mean_ = StateVector<Vec<D>>(solver_.velocity().begin(), solver_.velocity().end(), vectors);
   impedance_ = StateVector<Mat<D>>(n, Mat<D>::zero(), StateAllocator<Mat<D>>(device == Device::cuda));
+  shear_impedance_ = StateVector<Real>(n, 0.0, scalars);
   wall_point_ = StateVector<Vec<D>>(vectors);
   wall_radius_ = StateVector<Real>(scalars);
   density_ = StateVector<Real>(n, 0.0, scalars);
@@ -103,6 +104,8 @@ FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid
   const Real beta = added_mass_factor();
   fluid.set_structure_inertia(inverse_density_, beta);
   fluid.begin_step(dt, timer);
+  bool shear_answers = false;
+  timer.time("interaction", [&] { shear_answers = set_shear_impedance(fluid.particles(), dt); });
   quasi_newton_.begin_step();
   Real floor = 0;
   Eigen::VectorXd x = predict_interface(t, dt, beta, fluid, timer, floor);  // the iterate: a~_s along the rows
@@ -130,9 +133,12 @@ FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid
       if (iteration > 1) solver_.restore_state();
       work = 0;
       const bool ramp = interpolate_ && has_last_interaction_;
-      count = substep(t, dt, work,
-                      ramp ? InteractionSchedule<D>{.from = last_interaction_.data(), .to = interaction_.data()}
-                           : InteractionSchedule<D>{});
+      InteractionSchedule<D> schedule;
+      if (ramp) schedule.from = last_interaction_.data(), schedule.to = interaction_.data();
+      if (shear_answers)
+        schedule.to = interaction_.data(), schedule.impedance = impedance_.data(),
+        schedule.reference_velocity = v_mean_.data();
+      count = substep(t, dt, work, schedule);
       parallel_for(exec_, n,
                    ChordMotion<D>{.x = solver_.position().data(),
                                   .x_old = x_old_.data(),
@@ -311,6 +317,17 @@ void StructureCoupling<D>::set_interaction() {
   parallel_for(exec_, solver_.size(),
                InteractionAcceleration<D>{force_density_.data(), density_.data(), interaction_.data()});
   solver_.set_interaction(interaction_);
+}
+
+template <int D>
+bool StructureCoupling<D>::set_shear_impedance(const ParticleSet<D>& fluid, Real dt) {
+  const Index n = solver_.size();
+  fluid.gather_structure_impedance(shear_impedance_);
+  Real largest = 0;
+  for (Index s = 0; s < n; ++s) largest = std::max(largest, shear_impedance_[s] * inverse_density_[s]);
+  if (largest * dt <= kShearRate) return false;
+  parallel_for(exec_, n, IsotropicRate<D>{shear_impedance_.data(), density_.data(), impedance_.data()});
+  return true;
 }
 
 template <int D>

@@ -51,6 +51,11 @@
 // its two ends (TlsphSolver::advance; on the device the substeps and their powers are queued, and the
 // host waits once per fluid step and interface iteration).
 //
+// The fluid's shear on the structure (ViscousBoundaryForce) is part of alpha, computed with the velocities
+// at the step's start; held, it lags the structure's own motion by a step, and FSI1's bar at D/10 shook
+// along its axis with it (docs/VALIDATION.md section 36). Where Gamma_s dt exceeds kShearRate somewhere,
+// the substeps therefore take alpha - Gamma_s (v - vbar^n), Gamma_s = Z_s / rho_s its resistance.
+//
 // The weakly compressible model (sim/wcsph.hpp) couples explicitly instead (explicit_step): over each
 // of its acoustic steps the structure feels the pressure force of the step's start, held over the
 // substeps, and the fluid sees the structure's chord velocity; at those small steps the fluid's
@@ -137,6 +142,10 @@ class StructureCoupling {
   int substep(Real t, Real dt, Real& work, InteractionSchedule<D> schedule);
   // alpha(f->s) = f_s / rho_s (Eq. 48) from force_density_, handed to the TLSPH solver.
   void set_interaction();
+  // The shear's Gamma_s into impedance_, from the fluid's predictor; whether it matters over a step of
+  // dt: the largest Gamma_s dt above kShearRate (the shipped gate's water, nu = 1e-6, stays below it).
+  static constexpr Real kShearRate = 1e-3;
+  bool set_shear_impedance(const ParticleSet<D>& fluid, Real dt);
   // beta of the structure rows (PpeRowFill): 1/2 under a held alpha, 1/6 under a ramped one (the share
   // of alpha^{n+1} in the chord displacement), 0 without coupling.implicit_added_mass.
   Real added_mass_factor() const;
@@ -164,7 +173,8 @@ class StructureCoupling {
   StateVector<Vec<D>> row_direction_, a_rows_;  // each structure row's direction, and the iterate along it
   StateVector<Vec<D>> own_acceleration_;        // the structure's own acceleration at a step's start (ChordPrediction)
   StateVector<Vec<D>> last_interaction_;        // alpha^n (interpolated)
-  StateVector<Mat<D>> impedance_;               // the fluid's Gamma_s = Z_s / rho_s (explicit_step)
+  StateVector<Mat<D>> impedance_;               // the fluid's Gamma_s = Z_s / rho_s (explicit_step; step: the shear's)
+  StateVector<Real> shear_impedance_;           // the fluid's shear's Z_s (step)
   bool interpolate_;
   bool has_last_interaction_ = false;
   StateVector<Real> density_, inverse_density_;

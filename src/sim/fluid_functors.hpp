@@ -95,13 +95,16 @@ struct ViscousAcceleration {
   }
   // The pair term c_ab of for_each_term, given a's viscosity, B^ and G (zero for b = a).
   ISPH_HD Vec<D> pair_term(Index a, Index b, Real nu_a, const Mat<D>& bhat, const Mat<D>& G) const {
+    return pair_weight(a, b, nu_a, bhat) * (u[a] - v.velocity_seen(a, b, u) - G * v.op.r(a, b));
+  }
+  // Its weight nu_ab w_ab / |r_ab| (zero for b = a).
+  ISPH_HD Real pair_weight(Index a, Index b, Real nu_a, const Mat<D>& bhat) const {
     const OperatorView<D>& op = v.op;
     const Vec<D> r_ab = op.r(a, b);
     const Real rho = sqrt(norm2(r_ab));
-    if (!(rho > 0)) return Vec<D>::zero();
+    if (!(rho > 0)) return 0;
     const Real nu_b = viscosity_at(b);
-    const Real w = 0.5 * (nu_a + nu_b) * laplacian_pair_weight(bhat, r_ab, rho, op.volume[b] * op.gradient(a, b, r_ab));
-    return (w / rho) * (u[a] - v.velocity_seen(a, b, u) - G * r_ab);
+    return 0.5 * (nu_a + nu_b) * laplacian_pair_weight(bhat, r_ab, rho, op.volume[b] * op.gradient(a, b, r_ab)) / rho;
   }
   ISPH_HD Vec<D> at(Index a) const {
     Vec<D> lap = Vec<D>::zero();
@@ -114,7 +117,8 @@ struct ViscousAcceleration {
 // Power of the walls' viscous traction on fluid particle a: its wall neighbours act on it with the
 // force m_a c_ab (ViscousAcceleration's flux form) and move with U_b, so they work at
 //   P_a = rho V_a sum_{b wall} c_ab · U_b
-// (fixed walls give 0; structures do not count, as they do not feel the traction back). With their
+// (fixed walls give 0; structures do not count: they feel the traction back, ViscousBoundaryForce, and
+// their energy is in the books). With their
 // pressure's, the moving walls' work on the fluid (ParticleSet::moving_wall_power); on the plate of
 // Couette flow it is mu U^2/H per area.
 template <int D>
@@ -133,25 +137,34 @@ struct ViscousWallPower {
   }
 };
 
-// The viscous force per unit volume on wall particle w (zero on the others): each fluid neighbour a
-// feels m_a c_aw from it (ViscousAcceleration's flux form), so the wall takes
+// The viscous force per unit volume on boundary particle w of kind `target` (zero on the others): each
+// fluid neighbour a feels m_a c_aw from it (ViscousAcceleration's flux form), so w takes
 //   f_w = -(rho / V_w) sum_{a fluid} V_a c_aw.
-// Summed over a body with its volumes (ParticleSet::body_viscous_force), the drag's viscous part.
+// Summed over a wall body with its volumes (ParticleSet::body_viscous_force), the drag's viscous part;
+// on structure particles, the fluid's shear on the structure (added to the pressure's, coupling.cpp),
+// with `impedance` Z_w = -df_w/dU_w = -(rho / V_w) sum_a V_a (nu w / |r|)_aw (1 + d_w / d_a) >= 0, by
+// which the structure's substeps answer their own velocity (docs/VALIDATION.md section 36).
 template <int D>
-struct ViscousWallForce {
+struct ViscousBoundaryForce {
   ViscousAcceleration<D> viscous;
   Real density;
+  FluidKind target;
   Vec<D>* force_density;
+  Real* impedance = nullptr;
   ISPH_HD void operator()(Index w) const {
     const FluidView<D>& v = viscous.v;
+    if (v.kind[w] != target) return;
     Vec<D> f = Vec<D>::zero();
-    if (v.kind[w] == FluidKind::wall)
-      for (Index k = v.op.nbr_offset[w]; k < v.op.nbr_offset[w + 1]; ++k) {
-        const Index a = v.op.nbr[k];
-        if (!v.is_fluid(a)) continue;
-        f += v.op.volume[a] * viscous.pair_term(a, w, viscous.viscosity_at(a), Mat<D>::identity(), Mat<D>::zero());
-      }
+    Real z = 0;
+    for (Index k = v.op.nbr_offset[w]; k < v.op.nbr_offset[w + 1]; ++k) {
+      const Index a = v.op.nbr[k];
+      if (!v.is_fluid(a)) continue;
+      const Real weight = viscous.pair_weight(a, w, viscous.viscosity_at(a), Mat<D>::identity());
+      f += (v.op.volume[a] * weight) * (viscous.u[a] - v.velocity_seen(a, w, viscous.u));
+      z += v.op.volume[a] * weight * v.no_slip_gain(a, w);
+    }
     force_density[w] = (-density / v.op.volume[w]) * f;
+    if (impedance) impedance[w] = (-density / v.op.volume[w]) * z;
   }
 };
 
@@ -394,22 +407,25 @@ struct FluidOutsideBox {
   }
 };
 
-// A value of structure particle k to its TLSPH index (the pressure force density, the impedance; with
-// `unit`, a vector's direction: of its PPE row's moment, zero where the row has none).
+// A value of structure particle k to its TLSPH index (the pressure force density, plus the viscous one
+// where `added` is given; the impedance; with `unit`, a vector's direction: of its PPE row's moment,
+// zero where the row has none).
 template <int D, class T = Vec<D>>
 struct ScatterToStructure {
   const Index* structure_index;
   const T* value;
   bool unit;
   T* out;
+  const T* added = nullptr;
   ISPH_HD void operator()(Index k) const {
     const Index s = structure_index[k];
     if (s < 0) return;
+    const T sum = added ? value[k] + added[k] : value[k];
     if constexpr (std::is_same_v<T, Vec<D>>) {
-      const Real len = sqrt(norm2(value[k]));
-      out[s] = !unit ? value[k] : len > 0 ? (1.0 / len) * value[k] : Vec<D>::zero();
+      const Real len = sqrt(norm2(sum));
+      out[s] = !unit ? sum : len > 0 ? (1.0 / len) * sum : Vec<D>::zero();
     } else {
-      out[s] = value[k];
+      out[s] = sum;
     }
   }
 };

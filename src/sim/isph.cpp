@@ -185,6 +185,8 @@ void IsphSolver<D>::predict_velocity(const FluidView<D>& v, Real dt) {
       v, Bhat_.data(), grad_u_.data(), particles_.velocity.data(), sps ? eddy_viscosity_.data() : nullptr, viscosity_};
   parallel_for(exec_, n, VelocityPredictor<D>{viscous, gravity_, dt, u_star_.data()});
   if (particles_.has_moving_walls()) particles_.record_viscous_wall_power(viscous);
+  // The structure feels the shear the predictor gave the fluid beside it, held over the step.
+  if (particles_.has_structure() && viscosity_ > 0) particles_.record_viscous_force(viscous, FluidKind::structure);
 }
 
 // Free surface (Fig. 2) and Skillen's coefficient (Eq. 17); returns the particle whose pressure is
@@ -335,9 +337,10 @@ void IsphSolver<D>::end_step(Real dt, PhaseTimer& timer) {
   if (wall_friction_)  // with the new velocity (the flux form reads neither B^ nor G)
     timer.time("wall_force", [&] {
       const bool sps = settings_.turbulence == Turbulence::sps;
-      particles_.record_wall_viscous_force(ViscousAcceleration<D>{v, Bhat_.data(), grad_u_.data(),
-                                                                  particles_.velocity.data(),
-                                                                  sps ? eddy_viscosity_.data() : nullptr, viscosity_});
+      particles_.record_viscous_force(
+          ViscousAcceleration<D>{v, Bhat_.data(), grad_u_.data(), particles_.velocity.data(),
+                                 sps ? eddy_viscosity_.data() : nullptr, viscosity_},
+          FluidKind::wall);
     });
   particles_.time += dt;
   if (!particles_.open_zones().empty()) timer.time("open_boundaries", [&] { particles_.exchange_open_boundaries(dt); });

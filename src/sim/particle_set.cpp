@@ -63,7 +63,7 @@ ParticleSet<D>::ParticleSet(FluidSetup<D>& s)
   reference_position = position;
   wall_acceleration = boundary_force = viscous_force = contact_force = array(Vec<D>::zero());
   contact_body = array(Index{-1});
-  pressure = array(Real{0});
+  pressure = viscous_impedance = array(Real{0});
   for (auto* v : {&inside_, &permute_scratch_}) *v = StateVector<unsigned char>(allocator<unsigned char>());
   for (auto* v : {&body_distance_, &body_depth_, &power_density_, &block_sums_})
     *v = StateVector<Real>(allocator<Real>());
@@ -128,7 +128,7 @@ void ParticleSet<D>::reorder(const Index* order, Index count) {
   for (auto* v : {&position, &velocity, &wall_velocity, &wall_acceleration, &wall_normal, &reference_normal,
                   &reference_position, &boundary_force, &viscous_force, &contact_force})
     permute(*v, order, count);
-  for (auto* v : {&pressure, &volume, &wall_depth}) permute(*v, order, count);
+  for (auto* v : {&pressure, &volume, &wall_depth, &viscous_impedance}) permute(*v, order, count);
   for (auto* v : {&id, &structure_index, &motion, &body, &open_zone, &contact_body}) permute(*v, order, count);
   permute(kind, order, count);
   permute(level, order, count);
@@ -388,7 +388,11 @@ void ParticleSet<D>::gather_walls(StateVector<Vec<D>>& point, StateVector<Real>&
 template <int D>
 Vec<D> ParticleSet<D>::gather_structure_force(std::span<Vec<D>> force_density) const {
   parallel_for(exec_, size(),
-               ScatterToStructure<D>{structure_index.data(), boundary_force.data(), false, force_density.data()});
+               ScatterToStructure<D>{.structure_index = structure_index.data(),
+                                     .value = boundary_force.data(),
+                                     .unit = false,
+                                     .out = force_density.data(),
+                                     .added = viscous_force.data()});
   return summed(static_cast<Index>(structure_volume_.size()),
                 ForceComponent<D>{structure_volume_.data(), force_density.data(), 0});
 }
@@ -400,8 +404,20 @@ Vec<D> ParticleSet<D>::body_force(Index body_index) const {
 }
 
 template <int D>
-void ParticleSet<D>::record_wall_viscous_force(const ViscousAcceleration<D>& viscous) {
-  parallel_for(exec_, size(), ViscousWallForce<D>{viscous, density_, viscous_force.data()});
+void ParticleSet<D>::record_viscous_force(const ViscousAcceleration<D>& viscous, FluidKind target) {
+  parallel_for(
+      exec_, size(),
+      ViscousBoundaryForce<D>{.viscous = viscous,
+                              .density = density_,
+                              .target = target,
+                              .force_density = viscous_force.data(),
+                              .impedance = target == FluidKind::structure ? viscous_impedance.data() : nullptr});
+}
+
+template <int D>
+void ParticleSet<D>::gather_structure_impedance(std::span<Real> impedance) const {
+  parallel_for(exec_, size(),
+               ScatterToStructure<D, Real>{structure_index.data(), viscous_impedance.data(), false, impedance.data()});
 }
 
 template <int D>

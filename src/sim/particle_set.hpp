@@ -152,7 +152,9 @@ class ParticleSet {
   StateVector<Index> open_zone;            // buffer particles: their open boundary; -1 for the others
   StateVector<Vec<D>> reference_position;  // initial positions (moving walls follow their motion from them)
   StateVector<Vec<D>> boundary_force;      // pressure force per unit volume on wall and structure particles
-  StateVector<Vec<D>> viscous_force;       // viscous force per unit volume on wall particles (when asked for)
+  StateVector<Vec<D>> viscous_force;       // viscous force per unit volume on structure particles, and on
+                                           // wall particles when asked for (record_viscous_force)
+  StateVector<Real> viscous_impedance;     // Z_w = -df_w/dU_w of viscous_force on structure particles
   StateVector<Vec<D>> contact_force;       // on fluid particles: the force per unit volume of the projection's
   StateVector<Index> contact_body;         // impermeability condition on the body of a wall face (Project)
   Real time = 0;
@@ -216,14 +218,17 @@ class ParticleSet {
   // The wall particles as the structure's obstacles (sim/coupling.hpp), in particle order: their
   // positions and radii, half their spacing V^(1/D). Gathered on the particles' device.
   void gather_walls(StateVector<Vec<D>>& point, StateVector<Real>& radius) const;
-  // From boundary_force (filled by the model): the force density on the structure particles indexed as
-  // in TLSPH, and its sum.
+  // From boundary_force and viscous_force (filled by the model): the force density on the structure
+  // particles indexed as in TLSPH, and its sum.
   Vec<D> gather_structure_force(std::span<Vec<D>> force_density) const;
   // From boundary_force (filled by the model): the pressure force on the particles of one body.
   Vec<D> body_force(Index body_index) const;
-  // The fluid's viscous traction on the wall particles (ViscousWallForce), into viscous_force; and from
-  // it, the viscous force on the particles of one body.
-  void record_wall_viscous_force(const ViscousAcceleration<D>& viscous);
+  // The fluid's viscous traction on the particles of one kind, wall or structure (ViscousBoundaryForce),
+  // into viscous_force (on structure particles with viscous_impedance); and from it, the viscous force
+  // on the particles of one body.
+  void record_viscous_force(const ViscousAcceleration<D>& viscous, FluidKind target);
+  // viscous_impedance on the structure particles, indexed as in TLSPH.
+  void gather_structure_impedance(std::span<Real> impedance) const;
   Vec<D> body_viscous_force(Index body_index) const;
   // The force of the projection's impermeability condition on the wall particles of one body (Project).
   Vec<D> body_contact_force(Index body_index) const;

@@ -138,6 +138,7 @@ void WcsphSolver<D>::configure(Real dt, PhaseTimer& timer) {
                                            nullptr, viscosity_,   viscous_.data()};
       parallel_for(exec_, n, viscous);
       if (particles_.has_moving_walls()) particles_.record_viscous_wall_power(viscous);  // held with the acceleration
+      if (particles_.has_structure()) particles_.record_viscous_force(viscous, FluidKind::structure);
     });
   if (!forces_current_) timer.time("pressure_force", [&] { evaluate_forces(); });
 }

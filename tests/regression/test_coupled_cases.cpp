@@ -280,9 +280,10 @@ TEST(CoupledGate, OwnKrylovSolverNeedsTheAmgForTheGatesPressure) {
 
 // A run whose interface iterations end far from converged says so: the shipped gate to 30 ms with one
 // iteration per step (the staggered scheme) ends each step with a mean residual |H(a) - a| / |a_s| of
-// 3.36, above 1, and warns on stderr and in summary.json; with the shipped two, 0.574, quietly. Measured
-// 2026-12-06. The gate with its water at 0.625 mm ended at 1.56 with two and closed 10 mm further than
-// with converged iterations (docs/VALIDATION.md section 25).
+// 3.18, above 1, and warns on stderr and in summary.json; with the shipped two, 0.574, quietly. Measured
+// 2026-12-07 (3.36 before the gate felt the water's shear: the staggered residual answers a change of
+// 1 % in the water's viscosity by 0.02). The gate with its water at 0.625 mm ended at 1.56 with two and closed 10 mm
+// further than with converged iterations (docs/VALIDATION.md section 25).
 TEST(CoupledGate, WarnsWhereTheInterfaceIterationsEndFarFromConverged) {
   const auto run = [](const std::string& name, int iterations) {
     const fs::path out = fresh_dir(name);
@@ -293,7 +294,7 @@ TEST(CoupledGate, WarnsWhereTheInterfaceIterationsEndFarFromConverged) {
     return std::pair{r.output, read_file(out / "summary.json")};
   };
   const auto [staggered_output, staggered] = run("gate_one_iteration", 1);
-  EXPECT_NEAR(json_number(staggered, "mean_interface_residual"), 3.36, 0.1) << staggered;
+  EXPECT_NEAR(json_number(staggered, "mean_interface_residual"), 3.18, 0.1) << staggered;
   const std::string warning = "the interface iterations ended with a mean residual |H(a) - a| / |a_s| of 3.";
   EXPECT_NE(staggered_output.find("warning: " + warning), std::string::npos) << staggered_output;
   EXPECT_NE(staggered.find("\"warning\": \"" + warning), std::string::npos) << staggered;

@@ -161,8 +161,10 @@ TEST(MultiResolution, RefinementOneIsTheUniformCase) {
 // peak: the tip (the free end's downstream bottom corner, the references' point) follows the references
 // while the water pushes it open, and no water enters the gate or the walls. References: the three
 // simulations' peak, 39.0-42.7 mm at 0.115-0.12 s; the RMSEs below are today's measured values beside
-// them. Measured 2026-12-07: peak u_x 37.06 mm at 0.1055 s; RMSE of u_x against Yang 0.865 mm, Ng
-// 0.889 mm; of u_y against Yang 0.815 mm (the corner's u_y leads Yang's rise by about 5 ms).
+// them. Measured 2026-12-07: peak u_x 37.08 mm at 0.1111 s; RMSE of u_x against Yang 0.865 mm, Ng
+// 0.889 mm; of u_y against Yang 0.815 mm (the corner's u_y leads Yang's rise by about 5 ms). The tip stays
+// within 0.1 mm of its peak from 0.104 to 0.114 s, so the peak's time is ill-conditioned: the water's
+// shear on the gate (0.02 N/m against 26 N/m of pressure) moved it from 0.1055 s and its height by 0.02 mm.
 TEST(MultiResolution, ElasticGateTipFollowsTheReferencesToItsPeak) {
   const fs::path out = fresh_dir("multiresolution_gate");
   const auto r = isph("run " + kCases + "elastic_gate.toml --quiet --out " + out.string() +
@@ -175,8 +177,8 @@ TEST(MultiResolution, ElasticGateTipFollowsTheReferencesToItsPeak) {
   const auto peak = std::max_element(ux.begin(), ux.end());
   EXPECT_GT(*peak, 0.85 * 39.0e-3);  // the references' lowest peak
   EXPECT_LT(*peak, 42.7e-3);         // and their highest
-  EXPECT_NEAR(*peak, 37.06e-3, 0.5e-3);
-  EXPECT_NEAR(t[static_cast<std::size_t>(peak - ux.begin())], 0.1055, 0.004);
+  EXPECT_NEAR(*peak, 37.08e-3, 0.5e-3);
+  EXPECT_NEAR(t[static_cast<std::size_t>(peak - ux.begin())], 0.1111, 0.004);
   const std::string gate = "antoci_2007_elastic_gate/ng_2020_elastic_dam_break_";
   EXPECT_NEAR(rmse_against(t, ux, read_reference(gate + "x_displacement_yang_2012_sph_fem.csv")), 0.865e-3, 0.1e-3);
   EXPECT_NEAR(rmse_against(t, ux, read_reference(gate + "x_displacement_ng_2020_sph_vcpm_alpha_1.csv")), 0.889e-3,
