@@ -314,11 +314,12 @@ std::vector<SchemaKey<BodySpec>> declare_bodies() {
       .doc("particles of the body inside any clamp are fixed");
   add(
       keys, "holes", [](B & b) -> auto& { return b.holes; })
-      .only([](const B& b, int) { return b.kind == ParticleKind::fluid; }, "fluid",
-            [](const B& b, int) { return "only for kind = \"fluid\" (" + is("kind", b.kind) + ")"; })
+      .only([](const B& b, int) { return b.kind != ParticleKind::structure; }, "fluid or wall",
+            [](const B& b, int) { return "only for kind = \"fluid\" or \"wall\" (" + is("kind", b.kind) + ")"; })
       .doc(
-          "shapes the fluid leaves empty, for the wall bodies of obstacles inside it (a cylinder in a channel: "
-          "`cases/dfg_cylinder.toml`)");
+          "shapes the body leaves empty: in a fluid, the obstacles' wall bodies (a cylinder in a channel: "
+          "`cases/dfg_cylinder.toml`); in a wall, the slot where a structure is fixed into it (Turek & Hron's "
+          "bar in its cylinder: `cases/turek_hron.toml`)");
   add(
       keys, "refinement", [](B & b) -> auto& { return b.refinement; })
       .bounds({1, 16})

@@ -231,7 +231,8 @@ struct FluidRun {
         coupling(make_coupling()),
         probes(fluid_run_probes(scene, model->particles(), coupling ? &coupling->solver() : nullptr)),
         frame(spec, opt, probes.columns(), D),
-        releasable(fluid_releasable_potential() + (coupling ? structure_releasable_potential() : 0)) {
+        releasable(fluid_releasable_potential() + inflow_kinetic_energy() +
+                   (coupling ? structure_releasable_potential() : 0)) {
     frame.set_books_advice(spec.fluid.model == FluidMethod::wcsph
                                ? "try a smaller fluid.courant (or structure.courant with a structure)"
                                : "try a smaller fluid.courant, or shifting (fluid.shifting.type), or, with a "
@@ -267,6 +268,20 @@ struct FluidRun {
         std::span<const Vec<D>>(p.position),
         [&](std::size_t a) { return p.kind[a] == FluidKind::fluid ? p.density() * p.volume[a] : Real(0); },
         p.gravity());
+  }
+  // With inlets, the fluid's kinetic energy at their largest speed once ramped up: the flow they will
+  // drive, which a channel started from rest does not yet hold (its books would weigh round-off against
+  // nothing).
+  Real inflow_kinetic_energy() const {
+    const ParticleSet<D>& p = model->particles();
+    Real mass = 0, peak = 0;
+    for (Index a = 0; a < p.size(); ++a) {
+      if (p.kind[a] == FluidKind::fluid) mass += p.density() * p.volume[a];
+      const Index z = p.open_zone[a];
+      if (z >= 0 && !p.open_zones()[z].outlet)
+        peak = std::max(peak, std::abs(p.open_zones()[z].speed(p.position[a], p.open_zones()[z].ramp_time)));
+    }
+    return 0.5 * mass * peak * peak;
   }
   Real structure_releasable_potential() const {
     const TlsphSolver<D>& s = coupling->solver();

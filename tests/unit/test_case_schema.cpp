@@ -162,7 +162,7 @@ TEST_F(CaseSchema, BundledCasesRoundTripFieldByField) {
     ++cases;
     expect_round_trip(load_case(entry.path().string()), entry.path().filename().string());
   }
-  EXPECT_EQ(cases, 23);
+  EXPECT_EQ(cases, 24);
 }
 
 TEST_F(CaseSchema, ThreeDimensionalCaseRoundTripsFieldByField) {
