@@ -202,7 +202,7 @@ struct BodySpec {
   std::string material;  // name in the material table
   Shape shape;
   std::vector<Shape> clamps;  // particles of this body inside any clamp are fixed
-  std::vector<Shape> holes;   // fluid: the body leaves these empty (an obstacle's wall body fills one)
+  std::vector<Shape> holes;   // fluid or wall: the body leaves these empty (an obstacle, a structure's slot)
   double refinement = 1.0;    // structures: the case's dx over the body's spacing (>= 1; s = dx / refinement)
   double dx = 0.0;            // structures: the body's own spacing [m] instead (0: from refinement)
   std::array<double, 3> lattice_origin{};  // lattice points at origin + (i + offset) s

@@ -115,17 +115,40 @@ TEST(OpenBoundaries, StructureWallFeelsTheWatersShear) {
   EXPECT_NEAR(json_number(summary.substr(at), "fx"), 18.0, 0.05 * 18.0) << summary;
 }
 
+// Turek & Hron's channel at D/dx = 10 (the case's header).
+const std::string kCoarseTurekHron = kCases +
+                                     "turek_hron.toml --set dx=0.01 --set "
+                                     "'bodies.fluid.shape={type=\"rectangle\",min=[-0.04,0.0],max=[2.54,0.41]}'"
+                                     " --set 'bodies.cylinder.lattice_origin=[-0.04,0.0]'";
+
 // Turek & Hron's channel starts from rest, without gravity: the energy books' scale is the fluid's kinetic
 // energy at the inlet's peak speed once ramped up, (1/2) M (1.5 U)^2 with M = 10,100 particles of 0.1 kg
 // and U = 1 m/s: 1,136.25 J (before, 5e-24 J, and the coupling's round-off stopped the run at 0.018 s).
 TEST(OpenBoundaries, ChannelStartedFromRestKeepsItsEnergyBooks) {
   const fs::path out = fresh_dir("turek_hron_start");
-  const auto r = regression::isph("run " + kCases + "turek_hron.toml --quiet --set end_time=0.05 --out " +
-                                  out.string() + " --set output.snapshots=false");
+  const auto r = regression::isph("run " + kCoarseTurekHron + " --quiet --set end_time=0.05 --out " + out.string() +
+                                  " --set output.snapshots=false");
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string summary = read_file(out / "summary.json");
   EXPECT_EQ(json_number(summary, "fluid"), 10100) << summary;
   EXPECT_NEAR(json_number(summary, "scale"), 0.5 * 10100 * 0.1 * 1.5 * 1.5, 0.01) << summary;
+}
+
+// A structure with water on both sides whose middle particles' support reaches the water on both: Turek &
+// Hron's bar, 2 cm thick, at dx = 1 cm (2h = 2.4 cm) was crushed and the run diverged at 1.4 s
+// (docs/VALIDATION.md section 36). `isph check` warns, with the spacing that avoids it, T / (2 * 2h/dx - 1) =
+// 0.02 / 3.8; not at the shipped dx = 5 mm, nor for the gate, whose water is on one side.
+TEST(OpenBoundaries, CheckWarnsWhereAStructureHasWaterOnBothSidesOfItsSupport) {
+  const auto coarse = regression::isph("check " + kCoarseTurekHron);
+  EXPECT_EQ(coarse.status, 0) << coarse.output;
+  EXPECT_NE(coarse.output.find("structure 'bar' is 0.02 m thick with water on both sides"), std::string::npos)
+      << coarse.output;
+  EXPECT_NE(coarse.output.find("dx <= 0.00526316 m"), std::string::npos) << coarse.output;
+  for (const std::string& shipped : {kCases + "turek_hron.toml", kCases + "elastic_gate.toml"}) {
+    const auto r = regression::isph("check " + shipped);
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(r.output.find("warning"), std::string::npos) << r.output;
+  }
 }
 
 // Stopped at 0.25 s and continued to 0.6 s, the channel ends with the uninterrupted run's bits: the
