@@ -305,13 +305,15 @@ void ParticleSet<D>::restore(const SnapshotData& snapshot) {
   // Particles the open boundaries created: copies of a fluid or buffer particle, given their state below.
   const Index kept = static_cast<Index>(keep.size());
   std::vector<std::size_t> created;
-  const auto source = std::find_if(keep.begin(), keep.end(), [&](Index a) { return exchanged(a); });
+  // the particle copied, by value: keep grows below, and an iterator into it would dangle
+  const auto found = std::find_if(keep.begin(), keep.end(), [&](Index a) { return exchanged(a); });
+  const Index source = found == keep.end() ? -1 : *found;
   for (std::size_t r = 0; r < snapshot.size(); ++r)
     if (!matched[r]) {
-      if (source == keep.end())
+      if (source < 0)
         throw mismatch("it has " + std::to_string(snapshot.size() - kept) + " particles whose ids this case lacks");
       created.push_back(r);
-      keep.push_back(*source);
+      keep.push_back(source);
     }
   if (static_cast<Index>(keep.size()) != size() || kept != size())
     reorder(keep.data(), static_cast<Index>(keep.size()));
