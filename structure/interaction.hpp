@@ -58,13 +58,17 @@ struct InteractionAcceleration {
   ISPH_HD void operator()(Index a) const { alpha[a] = (1.0 / density[a]) * force_density[a]; }
 };
 
-// Gamma_s = (Z_s / rho_s) I of an isotropic resistance Z_s (the fluid's shear: ViscousBoundaryForce).
+// The rate Gamma_s = Z_s / rho_s of an isotropic resistance Z_s (the fluid's shear: ViscousBoundaryForce),
+// in place of Z_s, and as the matrix Gamma_s I the substeps take (zero where 1/rho_s is: clamped particles).
 template <int D>
 struct IsotropicRate {
-  const Real* impedance;
-  const Real* density;
-  Mat<D>* rate;
-  ISPH_HD void operator()(Index a) const { rate[a] = (impedance[a] / density[a]) * Mat<D>::identity(); }
+  Real* rate;  // in: Z_s
+  const Real* inverse_density;
+  Mat<D>* matrix;
+  ISPH_HD void operator()(Index a) const {
+    rate[a] *= inverse_density[a];
+    matrix[a] = rate[a] * Mat<D>::identity();
+  }
 };
 
 // Component d of V_s f_s, whose sum over the structure's particles is the pressure force on it; with

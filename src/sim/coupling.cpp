@@ -43,7 +43,7 @@ StructureCoupling<D>::StructureCoupling(TlsphSetup<D> setup, const CouplingSpec&
     *v = StateVector<Vec<D>>(n, Vec<D>::zero(), vectors);
   v_mean_ = StateVector<Vec<D>>(solver_.velocity().begin(), solver_.velocity().end(), vectors);
   impedance_ = StateVector<Mat<D>>(n, Mat<D>::zero(), StateAllocator<Mat<D>>(device == Device::cuda));
-  shear_impedance_ = StateVector<Real>(n, 0.0, scalars);
+  shear_rate_ = StateVector<Real>(n, 0.0, scalars);
   wall_point_ = StateVector<Vec<D>>(vectors);
   wall_radius_ = StateVector<Real>(scalars);
   density_ = StateVector<Real>(n, 0.0, scalars);
@@ -133,11 +133,10 @@ FluidStepReport StructureCoupling<D>::step(Real t, Real dt, IsphSolver<D>& fluid
       if (iteration > 1) solver_.restore_state();
       work = 0;
       const bool ramp = interpolate_ && has_last_interaction_;
-      InteractionSchedule<D> schedule;
-      if (ramp) schedule.from = last_interaction_.data(), schedule.to = interaction_.data();
-      if (shear_answers)
-        schedule.to = interaction_.data(), schedule.impedance = impedance_.data(),
-        schedule.reference_velocity = v_mean_.data();
+      const InteractionSchedule<D> schedule{.from = ramp ? last_interaction_.data() : nullptr,
+                                            .to = ramp || shear_answers ? interaction_.data() : nullptr,
+                                            .impedance = shear_answers ? impedance_.data() : nullptr,
+                                            .reference_velocity = shear_answers ? v_mean_.data() : nullptr};
       count = substep(t, dt, work, schedule);
       parallel_for(exec_, n,
                    ChordMotion<D>{.x = solver_.position().data(),
@@ -322,12 +321,9 @@ void StructureCoupling<D>::set_interaction() {
 template <int D>
 bool StructureCoupling<D>::set_shear_impedance(const ParticleSet<D>& fluid, Real dt) {
   const Index n = solver_.size();
-  fluid.gather_structure_impedance(shear_impedance_);
-  Real largest = 0;
-  for (Index s = 0; s < n; ++s) largest = std::max(largest, shear_impedance_[s] * inverse_density_[s]);
-  if (largest * dt <= kShearRate) return false;
-  parallel_for(exec_, n, IsotropicRate<D>{shear_impedance_.data(), density_.data(), impedance_.data()});
-  return true;
+  fluid.gather_structure_impedance(shear_rate_);
+  parallel_for(exec_, n, IsotropicRate<D>{shear_rate_.data(), inverse_density_.data(), impedance_.data()});
+  return parallel_reduce(exec_, n, Real{0}, ScalarAt{shear_rate_.data()}, MaxOf{}) * dt > kShearRate;
 }
 
 template <int D>

@@ -174,7 +174,7 @@ class StructureCoupling {
   StateVector<Vec<D>> own_acceleration_;        // the structure's own acceleration at a step's start (ChordPrediction)
   StateVector<Vec<D>> last_interaction_;        // alpha^n (interpolated)
   StateVector<Mat<D>> impedance_;               // the fluid's Gamma_s = Z_s / rho_s (explicit_step; step: the shear's)
-  StateVector<Real> shear_impedance_;           // the fluid's shear's Z_s (step)
+  StateVector<Real> shear_rate_;                // the fluid's shear's Gamma_s (step; set_shear_impedance)
   bool interpolate_;
   bool has_last_interaction_ = false;
   StateVector<Real> density_, inverse_density_;

@@ -185,7 +185,8 @@ void IsphSolver<D>::predict_velocity(const FluidView<D>& v, Real dt) {
       v, Bhat_.data(), grad_u_.data(), particles_.velocity.data(), sps ? eddy_viscosity_.data() : nullptr, viscosity_};
   parallel_for(exec_, n, VelocityPredictor<D>{viscous, gravity_, dt, u_star_.data()});
   if (particles_.has_moving_walls()) particles_.record_viscous_wall_power(viscous);
-  // The structure feels the shear the predictor gave the fluid beside it, held over the step.
+  // The structure feels the shear the predictor gave the fluid beside it (and answers it in its
+  // substeps where it matters: sim/coupling.hpp).
   if (particles_.has_structure() && viscosity_ > 0) particles_.record_viscous_force(viscous, FluidKind::structure);
 }
 
