@@ -110,7 +110,9 @@ std::vector<SettingKey> declare_keys() {
       .doc("c_s of Eq. 10");
   add(
       keys, "fluid", "free_surface", [](auto& c) -> auto& { return c.fluid.free_surface; })
-      .doc("detect the free surface (Dirichlet p = 0 there, Eq. 17)");
+      .doc(
+          "detect the free surface (Dirichlet p = 0 there, Eq. 17); `false`: a confined flow, whose projection keeps "
+          "no kinematic wall condition (docs/VALIDATION.md §35)");
   add(
       keys, "fluid", "surface_threshold", [](auto& c) -> auto& { return c.fluid.surface_threshold; })
       .bounds(non_negative())

@@ -359,6 +359,7 @@ void IsphSolver<D>::project_and_advance(const FluidView<D>& v, const FluidView<D
                           .density = density_,
                           .dt = dt,
                           .u_new = u_new_.data(),
+                          .kinematic_walls = settings_.free_surface,
                           .body = particles_.body.data(),
                           .contact_force = wall_friction_ ? particles_.contact_force.data() : nullptr,
                           .contact_body = particles_.contact_body.data()});
