@@ -49,11 +49,13 @@ def histories(run):
 
 
 def smoothed(t, y, width):
-    """The centred running mean of y over `width` seconds (the rows' spacing taken as uniform)."""
+    """The centred running mean of y over `width` seconds (the rows' spacing taken as uniform); near the ends
+    the mean of the rows there are, not of rows padded with zeros."""
     n = max(1, int(round(width / np.median(np.diff(t)))))
     if n < 2:
         return y
-    return np.convolve(y, np.ones(n) / n, mode="same")
+    kernel = np.ones(n)
+    return np.convolve(y, kernel, mode="same") / np.convolve(np.ones_like(y), kernel, mode="same")
 
 
 def oscillation(t, y):
@@ -96,13 +98,15 @@ def main():
         h = histories(run)
         t = h["time"]
         lo, hi = args.window if args.window else (t[-1] * 2 / 3, t[-1])
-        m = (t > lo) & (t <= hi) & np.isfinite(h["drag"])
+        finite = np.isfinite(h["drag"])  # the row at t = 0 holds no force
+        m = (t > lo) & (t <= hi) & finite
         row = [f"{variant.upper()} {label} ({lo:g}-{hi:g} s)"]
         for q in ("ux", "uy", "drag", "lift"):
             if q not in reference:
                 row.append("")
                 continue
-            y = smoothed(t[m], h[q][m], args.smooth) if q in ("drag", "lift") else h[q][m]
+            # smoothed over the whole run, then windowed, so that the window's ends see their neighbours
+            y = smoothed(t[finite], h[q][finite], args.smooth)[m[finite]] if q in ("drag", "lift") else h[q][m]
             value = (y.mean(), y.std(), None) if reference[q][1] is None else oscillation(t[m], y)
             row.append(describe(value, reference[q]))
         row.append(f"{h['bar_drag'][m].mean() / h['drag'][m].mean():.2f}")

@@ -231,9 +231,9 @@ struct VelocityPredictor {
 // the water's corner, and their face, added to the two it joins, threw the water out of the corner. A
 // structure's faces are planes only near each particle (normals turned by F, depths fixed), so there
 // the nearest particle's face alone counts. A confined flow (fluid.free_surface = false) has no such
-// particles, every row holds the PPE in full and its wall rows keep the fluid out, so the condition is off
-// (`kinematic_walls`): along a channel's walls the velocity it removed left a divergence that the next
-// projection answered with a pressure over the whole channel, ±10 kPa at 1 m/s (docs/VALIDATION.md section 36).
+// particles: every row holds the PPE and its wall rows keep the fluid out, so the condition is off there
+// (`kinematic_walls`); the divergence it left in a channel drove a pressure over the whole channel
+// (docs/VALIDATION.md section 35).
 template <int D>
 struct Project {
   FluidView<D> v;
