@@ -56,6 +56,7 @@ class AggregationAmg {
   // a set-up on the device allocates, and synchronises, only when a size grows.
   std::string setup(const CsrView& A) {
     levels_used_ = 0;
+    rows_followed_ = false;
     dense_n_ = 0;
     Level& fine = next_level(A.rows);
     fine.A_view = A;
@@ -93,12 +94,22 @@ class AggregationAmg {
     return "";
   }
 
-  // Takes A (the size of the last set-up's fine matrix, in the backend's memory) as the fine matrix and
-  // keeps the levels below it: the next PPE, whose particles moved a little, is smoothed with its own
-  // rows and corrected on the coarse levels of the last set-up. False when there is no set-up to keep
-  // or the size differs.
-  bool refresh_fine(const CsrView& A) {
-    if (levels_used_ == 0 || A.rows != levels_[0].n) return false;
+  // Takes A (in the backend's memory) as the fine matrix and keeps the levels below it: the next PPE,
+  // whose particles moved a little, is smoothed with its own rows and corrected on the coarse levels of
+  // the last set-up. origin (A.rows entries in the backend's memory, or null when A's rows are the last
+  // fine matrix's): the last fine row each of A's rows continues, -1 for a new one (particles re-sorted,
+  // created or removed); P's rows follow it and a new row is left out of the coarse levels, like a
+  // Dirichlet row. False when there is no set-up to keep, or the size differs and no origin is given, or
+  // the fine level is the coarsest (its dense inverse is of the old rows). The origin always refers to
+  // the rows of the set-up's fine matrix, however many refreshes came between.
+  bool refresh_fine(const CsrView& A, const Index* origin = nullptr) {
+    if (levels_used_ == 0) return false;
+    if (origin) {
+      if (levels_used_ < 2) return false;
+      follow_rows(A.rows, origin);
+    } else if (rows_followed_ || A.rows != levels_[0].n) {
+      return false;
+    }
     Level& fine = levels_[0];
     fine.A_view = A;
     fine.nonzeros = entries(A);
@@ -197,6 +208,24 @@ class AggregationAmg {
     parallel_for(exec, n, amg::JacobiOperator{A, level.dinv.data(), 4.0 / (3.0 * rho), w.jacobi.data()});
     const CsrView smoothing{n, A.row_offset, A.col, w.jacobi.data()};
     return multiply(smoothing, tentative.view(), level.P);
+  }
+
+  // The fine level's P, R and vectors for n fine rows that continue the set-up's as origin says.
+  void follow_rows(int n, const Index* origin) {
+    const Exec exec = ops_.exec();
+    Level& fine = levels_[0];
+    if (!rows_followed_) std::swap(fine.P, setup_p_);  // the set-up's P, kept as the rows' source
+    rows_followed_ = true;
+    Csr& p = fine.P;
+    const CsrView old_p = setup_p_.view();
+    start_csr(p, n);
+    parallel_for(exec, n, amg::CountOriginEntries{old_p.row_offset, origin, p.row_offset.data() + 1});
+    inclusive_scan(exec, p.row_offset.data() + 1, n);
+    allocate_entries(p);
+    parallel_for(exec, n, amg::GatherOriginRow{old_p, origin, p.row_offset.data(), p.col.data(), p.val.data()});
+    transpose(p.view(), levels_[1].n, fine.R);
+    fine.n = n;
+    for (Array<double>* v : {&fine.dinv, &fine.l1inv, &fine.res, &fine.tmp, &fine.rhs, &fine.z}) ensure(*v, n);
   }
 
   // R = P^T and the coarse matrix R (A P).
@@ -323,6 +352,8 @@ class AggregationAmg {
   std::vector<Level> levels_;  // the first levels_used_ are the hierarchy; the rest keep arrays for later
   std::size_t levels_used_ = 0;
   Scratch scratch_;
+  Csr setup_p_;                 // the set-up's fine P, once a refresh has followed moved rows
+  bool rows_followed_ = false;  // the fine level's P and R were rebuilt from setup_p_
   Array<double> dense_inverse_;
   int dense_n_ = 0;
 };

@@ -185,6 +185,32 @@ struct TentativeEntry {
   }
 };
 
+// A kept prolongation for a fine matrix whose rows were reordered, created or removed: row i of the new
+// P is row origin_i of the old one, or empty when origin_i < 0 (a row the hierarchy has not seen).
+struct CountOriginEntries {
+  const int* old_offset;
+  const Index* origin;
+  int* row_end;  // the new row_offset + 1
+  ISPH_HD void operator()(Index i) const {
+    row_end[i] = origin[i] >= 0 ? old_offset[origin[i] + 1] - old_offset[origin[i]] : 0;
+  }
+};
+struct GatherOriginRow {
+  CsrView old_p;
+  const Index* origin;
+  const int* row_offset;
+  int* col;
+  double* val;
+  ISPH_HD void operator()(Index i) const {
+    if (origin[i] < 0) return;
+    int out = row_offset[i];
+    for (int k = old_p.row_offset[origin[i]]; k < old_p.row_offset[origin[i] + 1]; ++k, ++out) {
+      col[out] = old_p.col[k];
+      val[out] = old_p.val[k];
+    }
+  }
+};
+
 // The values of I - omega D^-1 A on A's pattern (every row of A holds its diagonal).
 struct JacobiOperator {
   CsrView A;

@@ -35,6 +35,10 @@ class DeviceArrayOps {
   static double* data(Vector& v) { return v.data(); }
   static const double* data(const Vector& v) { return v.data(); }
   void upload(std::span<const double> h, Vector& v) const { v.upload(h); }
+  template <class T>
+  void assign(Array<T>& a, std::span<const T> h) const {
+    a.assign(h);
+  }
   void download(const Vector& v, std::span<double> h) const { v.download(h); }
 };
 

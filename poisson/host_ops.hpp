@@ -34,6 +34,10 @@ class HostOps {
   static double* data(Vector& v) { return v.data(); }
   static const double* data(const Vector& v) { return v.data(); }
   void upload(std::span<const double> h, Vector& v) const { v.assign(h.begin(), h.end()); }
+  template <class T>
+  void assign(Array<T>& a, std::span<const T> h) const {
+    a.assign(h.begin(), h.end());
+  }
   void download(const Vector& v, std::span<double> h) const { std::copy(v.begin(), v.end(), h.begin()); }
   void set_matrix(const CsrMatrix& A) { A_ = A; }
   CsrView matrix() const { return {A_.rows, A_.row_offset.data(), A_.col.data(), A_.val.data()}; }

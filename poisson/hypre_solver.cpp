@@ -136,9 +136,9 @@ class HypreSolver final : public KrylovSolverFrame {
   // A new matrix of the same size under the BoomerAMG hierarchy of the last setup: the matrix that
   // hierarchy was built from is kept alive beside the new one, and the new Krylov solver takes the
   // hierarchy as it is (a set-up function that does nothing). Only for BoomerAMG, whose set-up is most
-  // of a small system's solve (docs/SOLVERS.md).
-  bool refresh_matrix(const CsrMatrix& A, std::span<const double> b) override {
-    if (!amg_ || A.rows != n_) return false;
+  // of a small system's solve (docs/SOLVERS.md). Rows that moved (an origin) need a new hierarchy.
+  bool refresh_matrix(const CsrMatrix& A, std::span<const double> b, std::span<const Index> origin) override {
+    if (!amg_ || A.rows != n_ || !origin.empty()) return false;
     (gmres() ? HYPRE_ParCSRGMRESDestroy : HYPRE_ParCSRBiCGSTABDestroy)(krylov_);
     krylov_ = nullptr;
     if (setup_ij_A_)

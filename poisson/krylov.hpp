@@ -55,21 +55,14 @@ class Bicgstab {
   using Vector = typename Ops::Vector;
   enum class Preconditioner { none, jacobi, polynomial, amg };
 
-  Bicgstab(Ops& ops, int n)
-      : ops_(ops),
-        n_(n),
-        dinv_(ops.vector(n)),
-        r_(ops.vector(n)),
-        rhat_(ops.vector(n)),
-        p_(ops.vector(n)),
-        v_(ops.vector(n)),
-        s_(ops.vector(n)),
-        t_(ops.vector(n)),
-        phat_(ops.vector(n)),
-        shat_(ops.vector(n)),
-        work_(ops.vector(n)) {}
+  Bicgstab(Ops& ops, int n) : ops_(ops) { resize(n); }
 
   int size() const { return n_; }
+  // Work vectors for systems of n rows; the preconditioner stays (refresh_preconditioner adapts it).
+  void resize(int n) {
+    n_ = n;
+    for (Vector* v : {&dinv_, &r_, &rhat_, &p_, &v_, &s_, &t_, &phat_, &shat_, &work_}) *v = ops_.vector(n);
+  }
   // The preconditioner of the next runs, for the backend's current matrix (D⁻¹ is taken where the
   // matrix is). Returns an empty string, or why it cannot be built.
   std::string set_preconditioner(Preconditioner m) {
@@ -88,12 +81,12 @@ class Bicgstab {
     return "";
   }
 
-  // Keeps the AMG hierarchy of the last set_preconditioner for the backend's new matrix of the same
-  // size (AggregationAmg::refresh_fine); the other preconditioners are rebuilt, which costs one pass.
-  // False when there is nothing to keep.
-  bool refresh_preconditioner() {
+  // Keeps the AMG hierarchy of the last set_preconditioner for the backend's new matrix, of the same
+  // rows or of rows that continue the old ones as origin says (AggregationAmg::refresh_fine); the other
+  // preconditioners are rebuilt, which costs one pass. False when there is nothing to keep.
+  bool refresh_preconditioner(const Index* origin = nullptr) {
     if (m_ != Preconditioner::amg) return set_preconditioner(m_).empty();
-    return amg_ && amg_->refresh_fine(ops_.matrix());
+    return amg_ && amg_->refresh_fine(ops_.matrix(), origin);
   }
 
   // Iterates from x until ||r|| <= tol_abs or max_iterations; x is in the backend's memory. Returns the
@@ -196,7 +189,7 @@ class Bicgstab {
   }
 
   Ops& ops_;
-  int n_;
+  int n_ = 0;
   Preconditioner m_ = Preconditioner::none;
   std::optional<AggregationAmg<Ops>> amg_;
   Vector dinv_, r_, rhat_, p_, v_, s_, t_, phat_, shat_, work_;
@@ -229,10 +222,16 @@ class OwnKrylovSolver final : public KrylovSolverFrame {
     return "";
   }
 
-  bool refresh_matrix(const CsrMatrix& A, std::span<const double> b) override {
-    if (!krylov_ || krylov_->size() != A.rows) return false;
+  bool refresh_matrix(const CsrMatrix& A, std::span<const double> b, std::span<const Index> origin) override {
+    if (!krylov_ || (origin.empty() && krylov_->size() != A.rows)) return false;
     ops_.set_matrix(A);
-    if (!krylov_->refresh_preconditioner()) return false;
+    if (krylov_->size() != A.rows) {
+      krylov_->resize(A.rows);
+      b_ = ops_.vector(A.rows);
+      x_ = ops_.vector(A.rows);
+    }
+    if (!origin.empty()) ops_.assign(origin_, origin);
+    if (!krylov_->refresh_preconditioner(origin.empty() ? nullptr : origin_.data())) return false;
     update_rhs(b);
     return true;
   }
@@ -258,6 +257,7 @@ class OwnKrylovSolver final : public KrylovSolverFrame {
   Ops ops_;
   std::optional<Bicgstab<Ops>> krylov_;  // the work vectors of the current size
   typename Ops::Vector b_, x_;
+  typename Ops::template Array<Index> origin_;  // refresh_matrix's origin, in the backend's memory
   double b_norm_ = 0;
 };
 

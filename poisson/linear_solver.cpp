@@ -74,11 +74,6 @@ struct Magnitude {
   const double* v;
   ISPH_HD double operator()(Index i) const { return fabs(v[i]); }
 };
-struct SetValues {
-  double* v;
-  double value;
-  ISPH_HD void operator()(Index i) const { v[i] = value; }
-};
 // r_i^2 and b_i^2 of the residual r = b - A x.
 struct ResidualSquares {
   const int* row_offset;
@@ -241,10 +236,10 @@ double relative_residual(const CsrMatrix& A, std::span<const double> b, std::spa
 }
 
 SolveReport LinearSolver::solve(const CsrMatrix& A, const std::vector<double>& b, std::vector<double>& x,
-                                MatrixReuse reuse) {
-  if (!x.empty()) return solve(A, std::span<const double>(b), std::span<double>(x), reuse);
+                                MatrixReuse reuse, std::span<const Index> origin) {
+  if (!x.empty()) return solve(A, std::span<const double>(b), std::span<double>(x), reuse, origin);
   std::vector<double> zero_guess(static_cast<std::size_t>(std::max(A.rows, 0)), 0.0);  // x stays empty if this throws
-  const SolveReport report = solve(A, std::span<const double>(b), std::span<double>(zero_guess), reuse);
+  const SolveReport report = solve(A, std::span<const double>(b), std::span<double>(zero_guess), reuse, origin);
   x.swap(zero_guess);
   return report;
 }
@@ -285,23 +280,25 @@ std::optional<std::string> KrylovSolverFrame::screen(const Exec& exec, const Csr
     return "the right-hand side has NaN or Inf entries: not solved, x unchanged";
   }
   if (parallel_reduce(exec, n, 0.0, Magnitude{b.data()}, MaxOf{}) == 0) {
-    parallel_for(exec, n, SetValues{x.data(), 0.0});
+    parallel_for(exec, n, SetElements<double>{x.data(), 0.0});
     report.converged = true;
     return "b = 0: x = 0";
   }
   if (!all_finite(exec, x)) {
-    parallel_for(exec, n, SetValues{x.data(), 0.0});
+    parallel_for(exec, n, SetElements<double>{x.data(), 0.0});
     notes = "NaN/Inf initial guess replaced by zero; ";
   }
   return std::nullopt;
 }
 
-std::string KrylovSolverFrame::prepare(const CsrMatrix& A, std::span<const double> b, MatrixReuse reuse) {
-  if (prepared_ && reuse == MatrixReuse::all) {
+std::string KrylovSolverFrame::prepare(const CsrMatrix& A, std::span<const double> b, MatrixReuse reuse,
+                                       std::span<const Index> origin) {
+  if (prepared_ && reuse == MatrixReuse::all && !matrix_stale_) {
     update_rhs(b);
     return "";
   }
-  if (prepared_ && refresh_matrix(A, b)) {
+  matrix_stale_ = false;
+  if (prepared_ && reuse != MatrixReuse::none && refresh_matrix(A, b, origin)) {
     kept_preconditioner_ = true;
     return "";
   }
@@ -318,7 +315,7 @@ std::string KrylovSolverFrame::prepare(const CsrMatrix& A, std::span<const doubl
   } guard{this};
   if (std::string why = setup(A, b); !why.empty()) return why;
   guard.armed = false;
-  prepared_ = true;
+  prepared_ = built_preconditioner_ = true;
   return "";
 }
 
@@ -371,7 +368,7 @@ std::string KrylovSolverFrame::iterate_to_tolerance(const Exec& exec, const CsrM
 }
 
 SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, std::span<const double> b, std::span<double> x,
-                                     MatrixReuse reuse) {
+                                     MatrixReuse reuse, std::span<const Index> origin) {
   const auto start = std::chrono::steady_clock::now();
   // The frame's loops run on the backend's device when the caller's arrays live there (the fluid's, in
   // managed memory), else on the host (a test's or a benchmark's std::vectors).
@@ -381,7 +378,11 @@ SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, std::span<const doub
                         ? exec_device_
                         : Exec{};
   check_system(exec, A_in, b, x);
-  kept_preconditioner_ = false;
+  if (!origin.empty() && origin.size() != static_cast<std::size_t>(A_in.rows))
+    throw std::invalid_argument("linear solver: the row origin has " + std::to_string(origin.size()) +
+                                " entries for a matrix of " + std::to_string(A_in.rows) + " rows");
+  kept_preconditioner_ = built_preconditioner_ = false;
+  if (reuse != MatrixReuse::all) matrix_stale_ = true;  // until prepare() takes this A
   if (reuse == MatrixReuse::none && prepared_) {
     release();
     prepared_ = false;
@@ -414,7 +415,7 @@ SolveReport KrylovSolverFrame::solve(const CsrMatrix& A_in, std::span<const doub
     return done(notes + "the initial guess meets the tolerance");
   }
   const auto setup_start = std::chrono::steady_clock::now();
-  if (std::string why = prepare(A, b, reuse); !why.empty()) return done(notes + "setup failed: " + why);
+  if (std::string why = prepare(A, b, reuse, origin); !why.empty()) return done(notes + "setup failed: " + why);
   report.setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();
   return done(notes + iterate_to_tolerance(exec, A, b, x, rel, report));
 }

@@ -84,10 +84,12 @@ struct SolveReport {
 
 // What a solve may keep from the solver's previous call (LinearSolver::solve).
 //  none:           A is new: a new copy and a new preconditioner.
-//  preconditioner: A is new, but of the same size and unknown order as the matrix the last preconditioner
-//                  was built for, and close to it (the next step's PPE, before the particles are
-//                  re-sorted): the backend takes the new A and may keep that preconditioner (hypre's
-//                  BoomerAMG hierarchy); a backend that cannot builds a new one.
+//  preconditioner: A is new, but close to the matrix the last preconditioner was built for (the next
+//                  step's PPE): the backend takes the new A and may keep that preconditioner (hypre's
+//                  BoomerAMG hierarchy, the native and cuda AMG's); a backend that cannot builds a new
+//                  one. A's rows are that matrix's, or, with a row origin (solve), continue its rows as
+//                  the origin says (particles re-sorted, created, removed): only the native and cuda
+//                  AMG keep their hierarchy then.
 //  all:            A is the matrix of the previous call; only b changed.
 enum class MatrixReuse { none, preconditioner, all };
 
@@ -99,14 +101,18 @@ class LinearSolver {
   // iterations, message). Throws std::invalid_argument on a malformed matrix or mismatched sizes.
   // b = 0 gives x = 0. A non-finite initial guess is replaced by zero. When the solver produces a
   // non-finite x, x is restored to the initial guess and the report says so.
-  // reuse: what the call may keep from the previous one (MatrixReuse).
+  // reuse: what the call may keep from the previous one (MatrixReuse). origin (with
+  // MatrixReuse::preconditioner; empty, or A.rows entries in the caller's memory): for each row of A,
+  // the row of the kept preconditioner's matrix it continues, or -1 for a new row.
   virtual SolveReport solve(const CsrMatrix& A, std::span<const double> b, std::span<double> x,
-                            MatrixReuse reuse = MatrixReuse::none) = 0;
+                            MatrixReuse reuse = MatrixReuse::none, std::span<const Index> origin = {}) = 0;
   // The same for std::vectors, where an empty x means a zero guess (x is then resized to A.rows).
   SolveReport solve(const CsrMatrix& A, const std::vector<double>& b, std::vector<double>& x,
-                    MatrixReuse reuse = MatrixReuse::none);
-  // Whether the last solve kept an earlier preconditioner for a new matrix (MatrixReuse::preconditioner).
+                    MatrixReuse reuse = MatrixReuse::none, std::span<const Index> origin = {});
+  // Whether the last solve kept an earlier preconditioner for a new matrix (MatrixReuse::preconditioner),
+  // and whether it built a new one (neither: it took the last call's set-up, or ended before iterating).
   virtual bool kept_preconditioner() const { return false; }
+  virtual bool built_preconditioner() const { return false; }
   // The relative residual the following solves must reach (SolverSettings::tolerance at construction).
   virtual void set_tolerance(double tolerance) = 0;
   virtual double tolerance() const = 0;
@@ -147,9 +153,10 @@ class KrylovSolverFrame : public LinearSolver {
   explicit KrylovSolverFrame(const SolverSettings& settings, Exec exec = {});
   using LinearSolver::solve;  // the std::vector overload
   SolveReport solve(const CsrMatrix& A, std::span<const double> b, std::span<double> x,
-                    MatrixReuse reuse = MatrixReuse::none) final;
+                    MatrixReuse reuse = MatrixReuse::none, std::span<const Index> origin = {}) final;
   std::string name() const final;
   bool kept_preconditioner() const final { return kept_preconditioner_; }
+  bool built_preconditioner() const final { return built_preconditioner_; }
   void set_tolerance(double tolerance) final { settings_.tolerance = tolerance; }
   double tolerance() const final { return settings_.tolerance; }
 
@@ -165,9 +172,10 @@ class KrylovSolverFrame : public LinearSolver {
   virtual std::string setup(const CsrMatrix& A, std::span<const double> b) = 0;
   // Replaces b, keeping A and the preconditioner of the last setup.
   virtual void update_rhs(std::span<const double> b) = 0;
-  // Replaces A (same size) and b, keeping the preconditioner of the last setup; false where the backend
-  // cannot (the frame then releases and sets up afresh).
-  virtual bool refresh_matrix(const CsrMatrix&, std::span<const double>) { return false; }
+  // Replaces A and b, keeping the preconditioner of the last setup; A's rows are the last matrix's, or
+  // continue them as origin says (LinearSolver::solve). False where the backend cannot (the frame then
+  // releases and sets up afresh).
+  virtual bool refresh_matrix(const CsrMatrix&, std::span<const double>, std::span<const Index>) { return false; }
   // Runs the Krylov method from x (in/out) until its own residual estimate falls below tol (relative
   // to ||b||, or to the initial residual of this pass when tolerance_relative_to_initial_residual())
   // or after max_iterations iterations.
@@ -185,14 +193,15 @@ class KrylovSolverFrame : public LinearSolver {
   std::optional<std::string> screen(const Exec& exec, const CsrMatrix& A, std::span<const double> b,
                                     std::span<double> x, SolveReport& report, std::string& notes);
   // The backend's set-up for A and b as `reuse` allows; why it failed, or an empty string.
-  std::string prepare(const CsrMatrix& A, std::span<const double> b, MatrixReuse reuse);
+  std::string prepare(const CsrMatrix& A, std::span<const double> b, MatrixReuse reuse, std::span<const Index> origin);
   // The Krylov passes from x to the tolerance, from the relative residual `rel` of x; the closing message.
   std::string iterate_to_tolerance(const Exec& exec, const CsrMatrix& A, std::span<const double> b, std::span<double> x,
                                    double rel, SolveReport& report);
   double relative_residual(const Exec& exec, const CsrMatrix& A, std::span<const double> b, std::span<const double> x);
 
-  bool prepared_ = false;  // a setup() is in place
-  bool kept_preconditioner_ = false;
+  bool prepared_ = false;      // a setup() is in place
+  bool matrix_stale_ = false;  // the last solve's A is not the one set up (it ended before prepare())
+  bool kept_preconditioner_ = false, built_preconditioner_ = false;
   Exec exec_device_;                                        // the backend's device
   StateVector<double> x0_, squares_, b_squares_, partial_;  // the initial guess; the residual's work arrays
 };

@@ -11,6 +11,12 @@ ended: a run still going is read as far as its probes.csv). Optionally a figure 
 the histories against the reference bands.
 
   /usr/bin/python3 scripts/validate/turek_hron_report.py VARIANT:LABEL=RUN [...] [--window LO HI] [--figure PNG]
+        [--pareto PNG]
+
+--pareto: the speed-accuracy chart of the runs that have ended: each quantity's error (of the mean for a
+steady one, of the amplitude for a periodic one) against the wall time per simulated second of the whole
+run (summary.json's wall time over its simulated time: a run continued from a snapshot counts only its
+own part, so such runs are left out).
 
 VARIANT is one of cfd2, cfd3, fsi1, fsi2, fsi3; the --set lines of each are in the case's header.
 """
@@ -86,11 +92,12 @@ def main():
     parser.add_argument("runs", nargs="+", help="VARIANT:LABEL=RUN")
     parser.add_argument("--window", nargs=2, type=float, help="time window [s] (default: the run's last third)")
     parser.add_argument("--figure", help="write the histories here (PNG)")
+    parser.add_argument("--pareto", help="write the error against the wall time per simulated second here (PNG)")
     parser.add_argument("--smooth", type=float, default=0.05,
                         help="running mean [s] of drag and lift before their extremes and crossings (the rows' "
                              "means over 0.01 s still swing from step to step)")
     args = parser.parse_args()
-    rows, curves = [], []
+    rows, curves, errors = [], [], []
     for spec in args.runs:
         head, run = spec.split("=", 1)
         variant, label = head.split(":", 1)
@@ -101,6 +108,7 @@ def main():
         finite = np.isfinite(h["drag"])  # the row at t = 0 holds no force
         m = (t > lo) & (t <= hi) & finite
         row = [f"{variant.upper()} {label} ({lo:g}-{hi:g} s)"]
+        run_errors = []
         for q in ("ux", "uy", "drag", "lift"):
             if q not in reference:
                 row.append("")
@@ -109,15 +117,22 @@ def main():
             y = smoothed(t[finite], h[q][finite], args.smooth)[m[finite]] if q in ("drag", "lift") else h[q][m]
             value = (y.mean(), y.std(), None) if reference[q][1] is None else oscillation(t[m], y)
             row.append(describe(value, reference[q]))
+            k = 0 if reference[q][1] is None else 1  # the mean of a steady value, the amplitude of a periodic one
+            run_errors.append((q, 100 * abs(value[k] / reference[q][k] - 1)))
         row.append(f"{h['bar_drag'][m].mean() / h['drag'][m].mean():.2f}")
+        cost = None
         if os.path.exists(os.path.join(run, "summary.json")):
             s = summary(run)
+            if s["simulated_time"] >= t[-1] - 1e-9:  # the whole run in one piece
+                cost = s["wall_time_s"] / s["simulated_time"]
             b = s["particles"]["open_boundaries"]
             row += [f"{-b['fluid_mass_change'] / b['mass_in'] * 100:.2f} %", f"{s['wall_time_s']:.0f}"]
         else:  # still running
             row += ["-", "-"]
         rows.append(row)
         curves.append((variant, label, h))
+        if cost is not None:
+            errors += [(f"{variant.upper()} {q}", label, error, cost) for q, error in run_errors]
     table(["run", "u_x(A) [mm]", "u_y(A) [mm]", "drag [N/m]", "lift [N/m]", "bar's drag share",
            "fluid lost / inflow", "wall [s]"], rows)
     if args.figure:
@@ -139,6 +154,29 @@ def main():
         fig.tight_layout()
         fig.savefig(args.figure, dpi=120)
         print(f"wrote {args.figure}")
+    if args.pareto:
+        pareto(errors, args.pareto)
+
+
+def pareto(errors, path):
+    """Error [%] against wall seconds per simulated second, one line per variant and quantity."""
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    lines = {}
+    for name, label, error, cost in errors:
+        lines.setdefault(name, []).append((cost, error, label))
+    for name, points in lines.items():
+        points.sort()
+        line, = ax.loglog([p[0] for p in points], [p[1] for p in points], "o-", label=name)
+        for cost, error, label in points:
+            ax.annotate(label, (cost, error), textcoords="offset points", xytext=(4, 4), fontsize=8,
+                        color=line.get_color())
+    ax.set_xlabel("wall time per simulated second [s] (1 thread)")
+    ax.set_ylabel("error against Turek & Hron [%]")
+    ax.grid(True, which="both", lw=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    print(f"wrote {path}")
 
 
 if __name__ == "__main__":

@@ -149,6 +149,14 @@ struct CopyElements {
   ISPH_HD void operator()(Index i) const { out[i] = in[i]; }
 };
 
+// out[i] = value.
+template <class T>
+struct SetElements {
+  T* out;
+  T value;
+  ISPH_HD void operator()(Index i) const { out[i] = value; }
+};
+
 // combine over i in [0, n) of value(i), starting from identity (value: a functor Index -> T).
 template <class T, class F, class Combine>
 T parallel_reduce(const Exec& exec, Index n, T identity, const F& value, const Combine& combine) {

@@ -27,6 +27,21 @@ SolverSettings solver_settings(const PpeSolverSpec& s, SolverBackend backend, in
   return out;
 }
 
+// row_of_id[id_a] = a: the rows of the particles at the preconditioner's set-up, by stable id.
+struct RowOfId {
+  const Index* id;
+  Index* row_of_id;
+  ISPH_HD void operator()(Index a) const { row_of_id[id[a]] = a; }
+};
+// origin_a = the set-up's row of particle a, or -1 for a particle created since.
+struct RowOrigin {
+  const Index* id;
+  const Index* row_of_id;
+  Index ids;  // row_of_id's size
+  Index* origin;
+  ISPH_HD void operator()(Index a) const { origin[a] = id[a] < ids ? row_of_id[id[a]] : -1; }
+};
+
 }  // namespace
 
 template <int D>
@@ -56,6 +71,7 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
   alpha_ = ps.array(Real{1});
   for (auto* v : {&div_u_star_, &eddy_viscosity_, &pressure_volume_, &rhs_, &p_trial_}) *v = ps.array(Real{0});
   for (auto* v : {&detected_, &cls_}) *v = ps.array(SurfaceClass::interior);
+  setup_row_of_id_ = row_origin_ = ps.array(Index{-1});
   // The work arrays are refilled every step before they are read; they follow the particles anyway, so
   // that their sizes follow a removal and the snapshot fields (classes, div r, shift) stay aligned.
   // p_trial_ is a copy of the pressure from each solve on.
@@ -262,15 +278,39 @@ void IsphSolver<D>::warm_start() {
 }
 
 // What the solve keeps: the matrix between interface iterations; the preconditioner across steps
-// (settings_.ppe.preconditioner_reuse) while the particles keep their order and a solve with it needs
-// no more than twice the iterations of the first after its set-up (plus two).
+// (settings_.ppe.preconditioner_reuse) while a solve with it needs no more than twice the iterations of
+// the first after its set-up (plus two). Re-sorted, created and removed particles are followed by their
+// stable ids (rows_since_setup), so that the open boundaries' exchange and the re-sorts do not drop it.
 template <int D>
 MatrixReuse IsphSolver<D>::matrix_reuse() const {
   if (solves_since_assembly_ > 0) return MatrixReuse::all;
-  const bool fresh_enough = preconditioner_age_ < settings_.ppe.preconditioner_reuse &&
-                            particles_.order_version() == preconditioner_order_ &&
-                            last_first_iterations_ <= 2 * setup_iterations_ + 2;
+  const bool fresh_enough =
+      preconditioner_age_ < settings_.ppe.preconditioner_reuse && last_first_iterations_ <= 2 * setup_iterations_ + 2;
   return fresh_enough ? MatrixReuse::preconditioner : MatrixReuse::none;
+}
+
+// For each particle the row it had when the preconditioner was set up (-1: created since); empty while
+// the particles keep that order, or when the solve keeps nothing.
+template <int D>
+std::span<const Index> IsphSolver<D>::rows_since_setup(MatrixReuse reuse) {
+  if (reuse == MatrixReuse::none || particles_.order_version() == preconditioner_order_) return {};
+  const Index n = particles_.size();
+  resize_for_overwrite(row_origin_, n);
+  parallel_for(exec_, n,
+               RowOrigin{.id = particles_.id.data(),
+                         .row_of_id = setup_row_of_id_.data(),
+                         .ids = static_cast<Index>(setup_row_of_id_.size()),
+                         .origin = row_origin_.data()});
+  return {row_origin_.data(), row_origin_.size()};
+}
+
+template <int D>
+void IsphSolver<D>::remember_setup_rows() {
+  preconditioner_order_ = particles_.order_version();
+  const Index ids = particles_.next_id();
+  resize_for_overwrite(setup_row_of_id_, ids);
+  parallel_for(exec_, ids, SetElements<Index>{setup_row_of_id_.data(), Index{-1}});
+  parallel_for(exec_, particles_.size(), RowOfId{particles_.id.data(), setup_row_of_id_.data()});
 }
 
 template <int D>
@@ -283,7 +323,7 @@ void IsphSolver<D>::solve_pressure(FluidStepReport& report, PhaseTimer& timer, d
     }
     warm_start();
     const MatrixReuse reuse = matrix_reuse();
-    report.ppe = solver_->solve(matrix_, rhs_, p_trial_, reuse);
+    report.ppe = solver_->solve(matrix_, rhs_, p_trial_, reuse, rows_since_setup(reuse));
     int iterations = report.ppe.iterations;                         // of this solve, the fallback's included
     if (!report.ppe.converged && solver_->kept_preconditioner()) {  // an old preconditioner may be why
       warm_start();
@@ -293,10 +333,10 @@ void IsphSolver<D>::solve_pressure(FluidStepReport& report, PhaseTimer& timer, d
     if (reuse != MatrixReuse::all) {  // the step's first solve: keep count of the preconditioner's use
       if (solver_->kept_preconditioner()) {
         ++preconditioner_age_;
-      } else {
+      } else if (solver_->built_preconditioner()) {
         preconditioner_age_ = 0;
-        preconditioner_order_ = particles_.order_version();
         setup_iterations_ = report.ppe.iterations;
+        remember_setup_rows();
       }
       last_first_iterations_ = report.ppe.iterations;
     }

@@ -82,6 +82,9 @@ class IsphSolver final : public FluidModel<D> {
   void shift_particles(const FluidView<D>& pv, Real dt);
   void compress_matrix();
   MatrixReuse matrix_reuse() const;
+  std::span<const Index> rows_since_setup(MatrixReuse reuse);
+  // Keeps the particles' order and rows at the preconditioner's set-up, by stable id.
+  void remember_setup_rows();
   // p_trial_ = p_, the solver's start (the last pressure), copied where the particles are.
   void warm_start();
   // The pressure force per unit volume on the boundary particles of one kind, into boundary_force_.
@@ -105,9 +108,11 @@ class IsphSolver final : public FluidModel<D> {
 
   int solves_since_assembly_ = 0;  // PPE solves with the assembled matrix (the later ones reuse its set-up)
   // The preconditioner kept across steps (matrix_reuse): steps since its set-up, the particle order it
-  // was built for, the iterations of the first solve with it and of the last step's first solve.
+  // was built for and each particle's row then (by id), the iterations of the first solve with it and of
+  // the last step's first solve; row_origin_: rows_since_setup()'s answer.
   int preconditioner_age_ = 0, setup_iterations_ = 0, last_first_iterations_ = 0;
   long long preconditioner_order_ = -1;
+  StateVector<Index> setup_row_of_id_, row_origin_;
   const Real* structure_inverse_density_ = nullptr;  // set_structure_inertia
   Real added_mass_ = 0;
   bool kernel_correction_;

@@ -193,15 +193,18 @@ TEST(MultiResolution, ElasticGateTipFollowsTheReferencesToItsPeak) {
 // (structure/elastic_law.hpp): the gate's strains stay small enough that each opens it like St.
 // Venant-Kirchhoff, within 0.2 mm of its peak (37.06 mm) and of its RMSE against Yang (0.865 mm)
 // (docs/VALIDATION.md, "Hyperelastic rubber"). Measured 2026-12-07 at the tip's corner (docs/VALIDATION.md
-// section 14): peak and u_x RMSE against Yang, each law's in the table below.
+// section 14): peak and u_x RMSE against Yang, each law's in the table below; measured again once the AMG
+// hierarchy was kept across the particles' re-sorts (docs/SOLVERS.md), which moved them by solver-tolerance
+// differences (Mooney-Rivlin's RMSE 0.885 -> 0.950 mm, while the whole gate's RMSEs against the three
+// references fell by 0.06-0.11 mm).
 TEST(MultiResolution, ElasticGateOpensAlikeWithEveryElasticLaw) {
   const std::string gate = "antoci_2007_elastic_gate/ng_2020_elastic_dam_break_";
   const struct {
     const char* model;
     const char* sets;
     double peak, rmse_yang;
-  } laws[] = {{"neo_hookean", "", 37.04e-3, 0.936e-3},
-              {"mooney_rivlin", " --set materials.rubber.c01_fraction=0.2", 37.13e-3, 0.885e-3}};
+  } laws[] = {{"neo_hookean", "", 37.11e-3, 0.902e-3},
+              {"mooney_rivlin", " --set materials.rubber.c01_fraction=0.2", 36.89e-3, 0.950e-3}};
   for (const auto& law : laws) {
     const fs::path out = fresh_dir(std::string("gate_") + law.model);
     const auto r = isph("run " + kCases + "elastic_gate.toml --quiet --out " + out.string() +
