@@ -32,6 +32,7 @@ class DeviceArrayOps {
   static constexpr Device device = Device::cuda;
   Exec exec() const { return Exec{device}; }
   Vector vector(int n) const { return Vector(static_cast<std::size_t>(n)); }
+  static void resize(Vector& v, int n) { v.resize(static_cast<std::size_t>(n)); }
   static double* data(Vector& v) { return v.data(); }
   static const double* data(const Vector& v) { return v.data(); }
   void upload(std::span<const double> h, Vector& v) const { v.upload(h); }

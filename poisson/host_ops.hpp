@@ -31,6 +31,7 @@ class HostOps {
   static constexpr Device device = Device::cpu;
   Exec exec() const { return Exec{device}; }
   Vector vector(int n) const { return Vector(static_cast<std::size_t>(n)); }
+  static void resize(Vector& v, int n) { v.resize(static_cast<std::size_t>(n)); }
   static double* data(Vector& v) { return v.data(); }
   static const double* data(const Vector& v) { return v.data(); }
   void upload(std::span<const double> h, Vector& v) const { v.assign(h.begin(), h.end()); }

@@ -46,9 +46,8 @@ namespace isph {
 inline constexpr int kPolynomialSweeps = 3;
 inline constexpr double kPolynomialDamping = 2.0 / 3.0;
 
-// BiCGSTAB (van der Vorst 1992) with right preconditioning, over an Ops backend. Holds the work vectors
-// of one matrix size, reused for every matrix of that size (a run's PPE keeps its size: one row per
-// particle).
+// BiCGSTAB (van der Vorst 1992) with right preconditioning, over an Ops backend. Holds the work vectors,
+// resized for each matrix's size and reallocated only when it outgrows them (one row per particle).
 template <class Ops>
 class Bicgstab {
  public:
@@ -58,10 +57,11 @@ class Bicgstab {
   Bicgstab(Ops& ops, int n) : ops_(ops) { resize(n); }
 
   int size() const { return n_; }
-  // Work vectors for systems of n rows; the preconditioner stays (refresh_preconditioner adapts it).
+  // Work vectors for systems of n rows, reallocated only when n outgrows them (the PPE's size follows the
+  // particles, step by step, with open boundaries); the preconditioner stays (refresh_preconditioner).
   void resize(int n) {
     n_ = n;
-    for (Vector* v : {&dinv_, &r_, &rhat_, &p_, &v_, &s_, &t_, &phat_, &shat_, &work_}) *v = ops_.vector(n);
+    for (Vector* v : {&dinv_, &r_, &rhat_, &p_, &v_, &s_, &t_, &phat_, &shat_, &work_}) Ops::resize(*v, n);
   }
   // The preconditioner of the next runs, for the backend's current matrix (D⁻¹ is taken where the
   // matrix is). Returns an empty string, or why it cannot be built.
@@ -212,11 +212,7 @@ class OwnKrylovSolver final : public KrylovSolverFrame {
                 : settings_.preconditioner == PreconditionerType::amg        ? P::amg
                                                                              : P::none;
     ops_.set_matrix(A);
-    if (!krylov_ || krylov_->size() != A.rows) {  // work vectors only when the size changes
-      krylov_.emplace(ops_, A.rows);
-      b_ = ops_.vector(A.rows);
-      x_ = ops_.vector(A.rows);
-    }
+    fit(A.rows);
     if (std::string why = krylov_->set_preconditioner(m); !why.empty()) return why;
     update_rhs(b);
     return "";
@@ -225,11 +221,7 @@ class OwnKrylovSolver final : public KrylovSolverFrame {
   bool refresh_matrix(const CsrMatrix& A, std::span<const double> b, std::span<const Index> origin) override {
     if (!krylov_ || (origin.empty() && krylov_->size() != A.rows)) return false;
     ops_.set_matrix(A);
-    if (krylov_->size() != A.rows) {
-      krylov_->resize(A.rows);
-      b_ = ops_.vector(A.rows);
-      x_ = ops_.vector(A.rows);
-    }
+    fit(A.rows);
     if (!origin.empty()) ops_.assign(origin_, origin);
     if (!krylov_->refresh_preconditioner(origin.empty() ? nullptr : origin_.data())) return false;
     update_rhs(b);
@@ -251,11 +243,20 @@ class OwnKrylovSolver final : public KrylovSolverFrame {
   // Lets go of the matrix; the work vectors stay for the next matrix of the same size.
   void release() override { ops_.release(); }
 
+  // The work vectors (and the AMG's arrays, kept in krylov_) for n rows.
+  void fit(int n) {
+    if (!krylov_) krylov_.emplace(ops_, 0);
+    if (krylov_->size() == n) return;
+    krylov_->resize(n);
+    Ops::resize(b_, n);
+    Ops::resize(x_, n);
+  }
+
   bool tolerance_relative_to_initial_residual() const override { return false; }
 
  private:
   Ops ops_;
-  std::optional<Bicgstab<Ops>> krylov_;  // the work vectors of the current size
+  std::optional<Bicgstab<Ops>> krylov_;  // the work vectors and the preconditioner
   typename Ops::Vector b_, x_;
   typename Ops::template Array<Index> origin_;  // refresh_matrix's origin, in the backend's memory
   double b_norm_ = 0;

@@ -166,6 +166,12 @@ class DeviceArray {
     n_ = host.size();
     upload(host);
   }
+  // n elements, reallocated (with a quarter more room) only when n outgrows the allocation; the contents
+  // are not kept (work vectors whose size follows the particles').
+  void resize(std::size_t n) {
+    if (n > capacity_) *this = DeviceArray(n + n / 4);
+    n_ = n;
+  }
   // At least n elements (a scratch buffer: grows, never shrinks; the contents are not kept).
   void grow_to(std::size_t n) {
     if (n_ >= n) return;
