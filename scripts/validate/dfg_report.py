@@ -7,12 +7,11 @@ lost through the open boundaries; the wall time. Optionally a figure of the drag
 
   /usr/bin/python3 scripts/validate/dfg_report.py LABEL=RUN [LABEL=RUN ...] [--window 3 8] [--figure PNG]
 
-The runs of docs/VALIDATION.md (each fluid body starts 4 layers behind the inlet, and the cylinder's lattice with it):
+The runs of docs/VALIDATION.md (each fluid body starts 4 layers behind the inlet; the cylinder is on rings):
   D/10:  build/isph run cases/dfg_cylinder.toml --threads 2 --out D10
   D/20:  ... --set dx=0.005 --set 'bodies.fluid.shape={type="rectangle",min=[-0.02,0.0],max=[2.22,0.41]}'
-             --set 'bodies.cylinder.lattice_origin=[-0.02,0.0]'
-  D/7.3: ... --set dx=0.013666666666666667 (0.41/30), the fluid from -0.054667 to 2.254667, the cylinder's lattice
-             origin [-0.054667, 0.0], and walls 0.041 m thick (three layers)
+  D/7.3: ... --set dx=0.013666666666666667 (0.41/30), the fluid from -0.054667 to 2.254667, and walls 0.041 m
+             thick (three layers)
 
 The benchmark's values at rho = 1 (FEATFLOW): c_D = 5.57953523384, c_L = 0.010618948146,
 Delta p = 0.11752016697 Pa; at the case's rho = 1000, U = 0.2 m/s, D = 0.1 m: F_D = c_D rho U^2 D / 2 =

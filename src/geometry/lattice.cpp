@@ -40,6 +40,27 @@ std::vector<Vec<D>> fill_wedge(const Shape& w, Real s) {
   return points;
 }
 
+// A 2D circle of radius R on rings at r_k = R - (k + 1/2) s, each holding n_k = round(2 pi r_k / s)
+// particles (at least one) at angles 2 pi (j + k/2) / n_k: alternate rings are turned by half a pitch.
+// Each particle stands for s times its ring's pitch 2 pi r_k / n_k, within 0.5 / n_k of s^2.
+template <int D>
+std::vector<Vec<D>> fill_rings(const Shape& circle, Real s) {
+  std::vector<Vec<D>> points;
+  constexpr Real two_pi = 6.283185307179586;
+  for (int k = 0; circle.radius - (k + 0.5) * s > 0; ++k) {
+    const Real r = circle.radius - (k + 0.5) * s;
+    const int n = std::max(1, static_cast<int>(std::lround(two_pi * r / s)));
+    for (int j = 0; j < n; ++j) {
+      const Real angle = two_pi * (j + 0.5 * (k % 2)) / n;
+      Vec<D> p = Vec<D>::zero();
+      p[0] = circle.center[0] + r * std::cos(angle);
+      p[1] = circle.center[1] + r * std::sin(angle);
+      points.push_back(p);
+    }
+  }
+  return points;
+}
+
 }  // namespace
 
 template <int D>
@@ -71,6 +92,7 @@ std::vector<Vec<D>> fill_lattice(const Shape& shape, const std::array<double, 3>
 template <int D>
 std::vector<Vec<D>> body_particles(const BodySpec& body, Real s) {
   if (body.shape.type == ShapeType::wedge) return fill_wedge<D>(body.shape, s);
+  if (body.lattice == LatticeType::rings) return fill_rings<D>(body.shape, s);
   return fill_lattice<D>(body.shape, body.lattice_origin, body.lattice_offset, s);
 }
 

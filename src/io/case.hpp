@@ -192,6 +192,13 @@ struct InitialVelocitySpec {
   bool operator==(const InitialVelocitySpec&) const = default;
 };
 
+// How a body's shape is filled: a Cartesian lattice, or (a wall's 2D circle) concentric rings whose outer ring
+// lies s/2 inside the circle, so that the surface is smooth rather than a staircase (docs/CASES.md, shapes).
+enum class LatticeType { cartesian, rings };
+constexpr EnumName<LatticeType> kLatticeTypeNames[] = {{LatticeType::cartesian, "cartesian"},
+                                                       {LatticeType::rings, "rings"}};
+constexpr std::span<const EnumName<LatticeType>> enum_names(LatticeType) { return kLatticeTypeNames; }
+
 // A body: a primitive filled on a lattice of spacing s (by default cell-centred: the lattice points
 // inside the shape, with the lattice anchored at `lattice_origin`). Every particle has the volume s^D.
 // s is the case's dx, or for a structure its own dx or the case's dx / refinement: a thin structure may be
@@ -205,6 +212,7 @@ struct BodySpec {
   std::vector<Shape> holes;   // fluid or wall: the body leaves these empty (an obstacle, a structure's slot)
   double refinement = 1.0;    // structures: the case's dx over the body's spacing (>= 1; s = dx / refinement)
   double dx = 0.0;            // structures: the body's own spacing [m] instead (0: from refinement)
+  LatticeType lattice = LatticeType::cartesian;
   std::array<double, 3> lattice_origin{};  // lattice points at origin + (i + offset) s
   // Per axis, in units of s, in [0, 1): 1/2 puts the particles at cell centres, so that the shape's
   // faces lie s/2 beyond its outer particles; 0 puts particle rows on the faces through the origin.

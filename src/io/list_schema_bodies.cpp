@@ -295,8 +295,12 @@ std::vector<SchemaKey<BodySpec>> declare_bodies() {
       .doc(
           "name of a material: saint_venant_kirchhoff for a structure, newtonian for a fluid; optional "
           "(unused) for walls");
-  const auto own_lattice = [](const B& b, int) { return b.shape.type != ShapeType::wedge; };
-  const auto wedge_lattice = [](const B&, int) {
+  const auto own_lattice = [](const B& b, int) {
+    return b.shape.type != ShapeType::wedge && b.lattice == LatticeType::cartesian;
+  };
+  const auto not_own_lattice = [](const B& b, int) {
+    if (b.lattice == LatticeType::rings)
+      return std::string("not with lattice = \"rings\", which are centred on the circle");
     return std::string("not for a wedge, which is filled on its own lattice (docs/CASES.md, shapes)");
   };
   add(
@@ -340,15 +344,29 @@ std::vector<SchemaKey<BodySpec>> declare_bodies() {
           "the body's own spacing instead of refinement (giving both is an error, and so is a spacing "
           "coarser than the case's dx)");
   add(
+      keys, "lattice", [](B & b) -> auto& { return b.lattice; })
+      .check([](const B& b, int d) -> std::string {
+        if (b.lattice != LatticeType::rings) return "";
+        if (b.kind != ParticleKind::wall) return "\"rings\" is for walls (" + is("kind", b.kind) + ")";
+        if (d == 2 && b.shape.type == ShapeType::circle) return "";
+        return "\"rings\" fills a circle in 2D (" + is("shape.type", b.shape.type) + ")";
+      })
+      .doc(
+          "\"cartesian\": the lattice below; \"rings\" (a wall's 2D circle): concentric rings s apart, the outer one "
+          "s/2 "
+          "inside the circle, each with round(2 pi r / s) particles, so that a cylinder's surface is smooth rather "
+          "than a staircase (`cases/turek_hron.toml`). Each particle's volume is s^2 (its ring's share differs by "
+          "at most 0.5 / n)");
+  add(
       keys, "lattice_origin", [](B & b) -> auto& { return b.lattice_origin; })
       .unit("m")
-      .only(own_lattice, "all but wedges", wedge_lattice)
+      .only(own_lattice, "all but wedges and rings", not_own_lattice)
       .preset([](B& b, int d) { b.lattice_origin = b.shape.bounding_box(d).first; })
       .default_text("the lower corner of the shape's bounding box")
       .doc("particles at origin + (i + offset) s inside the shape, s the body's spacing");
   add(
       keys, "lattice_offset", [](B & b) -> auto& { return b.lattice_offset; })
-      .only(own_lattice, "all but wedges", wedge_lattice)
+      .only(own_lattice, "all but wedges and rings", not_own_lattice)
       .check([](const B& b, int d) -> std::string {
         for (int k = 0; k < d; ++k)
           if (!(b.lattice_offset[k] >= 0.0 && b.lattice_offset[k] < 1.0))

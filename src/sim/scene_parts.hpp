@@ -86,8 +86,14 @@ template <int D>
 std::vector<unsigned char> wall_surface_geometry(FluidSetup<D>& f, const std::vector<unsigned char>& structure_fixed,
                                                  const std::vector<Real>& spacing, Real support,
                                                  const Periodicity<D>& period, const Vec<D>& gravity);
+// Walls filled on rings: the exact normal and depth of their circle, in place of the lattice's; marks
+// their particles in `unchecked` (a ring body is checked by its radius, not particle by particle).
 template <int D>
-void check_wall_thickness(const FluidSetup<D>& f, const std::vector<unsigned char>& corner, Real dx, Real support,
+void ring_wall_geometry(const CaseSpec& spec, Real support, const std::string& file, FluidSetup<D>& f,
+                        std::vector<unsigned char>& unchecked, std::vector<std::string>& problems);
+// `unchecked`: particles left out (corners, rings).
+template <int D>
+void check_wall_thickness(const FluidSetup<D>& f, const std::vector<unsigned char>& unchecked, Real dx, Real support,
                           const Periodicity<D>& period, const std::string& file, std::vector<std::string>& problems);
 
 }  // namespace isph

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "core/neighbour_search.hpp"
+#include "io/schema.hpp"
 #include "sim/scene_parts.hpp"
 
 namespace isph {
@@ -107,12 +108,42 @@ std::vector<unsigned char> wall_surface_geometry(FluidSetup<D>& f, const std::ve
   return corner;
 }
 
+// A wall body filled on rings (io/case.hpp LatticeType) is a circle of radius R about c: a particle at
+// distance r from c lies R - r below the surface along n = (x - c)/r, exactly, where the lattice's free
+// sites would give the staircase's faces. Particles deeper than the kernel support keep n = 0, as the
+// lattice's do. The body is as thick as its radius, which must fill the support.
+template <int D>
+void ring_wall_geometry(const CaseSpec& spec, Real support, const std::string& file, FluidSetup<D>& f,
+                        std::vector<unsigned char>& unchecked, std::vector<std::string>& problems) {
+  const auto rings = [&](std::size_t bi) {
+    return spec.bodies[bi].lattice == LatticeType::rings;  // walls only (the schema)
+  };
+  for (std::size_t bi = 0; bi < spec.bodies.size(); ++bi)
+    if (rings(bi) && spec.bodies[bi].shape.radius < support)
+      problems.push_back(file + ": bodies[" + std::to_string(bi) +
+                         "].shape.radius: " + shortest_number(spec.bodies[bi].shape.radius) +
+                         " m is less than the kernel support 2h = " + shortest_number(support) +
+                         " m; a wall on rings must fill it (use the cartesian lattice, or a finer dx)");
+  for (Index a = 0; a < static_cast<Index>(f.x.size()); ++a) {
+    if (f.kind[a] != FluidKind::wall || !rings(static_cast<std::size_t>(f.body[a]))) continue;
+    const Shape& circle = spec.bodies[f.body[a]].shape;
+    const Vec<D> r = f.x[a] - to_vec<D>(circle.center);
+    const Real distance = std::sqrt(norm2(r));
+    const Real depth = circle.radius - distance;
+    const bool faced = depth < support && distance > 0;
+    f.wall_normal[a] = faced ? (1.0 / distance) * r : Vec<D>::zero();
+    f.wall_depth[a] = faced ? depth : 0;
+    unchecked[a] = 1;
+  }
+}
+
 // Every wall must be thick enough to fill the kernel support of the fluid beside it: behind each
 // particle of a wall's first layer there must be wall particles down to a depth of 2h. Corners are left
 // out: a corner is as thick as the faces it joins, which are checked, and along its diagonal normal the
-// lattice's particles lie sqrt(2) dx apart, the second of them beyond the support.
+// lattice's particles lie sqrt(2) dx apart, the second of them beyond the support. So are walls on rings,
+// whose radius ring_wall_geometry checks.
 template <int D>
-void check_wall_thickness(const FluidSetup<D>& f, const std::vector<unsigned char>& corner, Real dx, Real support,
+void check_wall_thickness(const FluidSetup<D>& f, const std::vector<unsigned char>& unchecked, Real dx, Real support,
                           const Periodicity<D>& period, const std::string& file, std::vector<std::string>& problems) {
   const Index n = static_cast<Index>(f.x.size());
   std::vector<Vec<D>> walls;
@@ -128,7 +159,7 @@ void check_wall_thickness(const FluidSetup<D>& f, const std::vector<unsigned cha
     if (f.kind[a] != FluidKind::wall) continue;
     const Index self = w++;
     const Vec<D> nrm = f.wall_normal[a];
-    if (!(norm2(nrm) > 0) || f.wall_depth[a] > 0.75 * dx || corner[a]) continue;  // not on the first layer's faces
+    if (!(norm2(nrm) > 0) || f.wall_depth[a] > 0.75 * dx || unchecked[a]) continue;  // not on the first layer's faces
     // the deepest wall particle straight behind (within dx/2 of the inward line)
     Real deepest = 0;
     for (Index k = nl.offset[self]; k < nl.offset[self + 1]; ++k) {
@@ -156,6 +187,8 @@ void check_wall_thickness(const FluidSetup<D>& f, const std::vector<unsigned cha
   template std::vector<unsigned char> wall_surface_geometry<D>(FluidSetup<D>&, const std::vector<unsigned char>&,     \
                                                                const std::vector<Real>&, Real, const Periodicity<D>&, \
                                                                const Vec<D>&);                                        \
+  template void ring_wall_geometry<D>(const CaseSpec&, Real, const std::string&, FluidSetup<D>&,                      \
+                                      std::vector<unsigned char>&, std::vector<std::string>&);                        \
   template void check_wall_thickness<D>(const FluidSetup<D>&, const std::vector<unsigned char>&, Real, Real,          \
                                         const Periodicity<D>&, const std::string&, std::vector<std::string>&);
 ISPH_WALL_FACES(2)

@@ -249,6 +249,33 @@ TEST(WallGeometry, FloorUnderAFreeStructureFacesUp) {
   EXPECT_EQ(clamped_part, 2);
 }
 
+// A cylinder on rings (cases/dfg_cylinder.toml, r = 0.05 m at dx = 0.01 m) faces the water along its radius,
+// each particle R - r below the circle: the outer ring's 28 dx/2, the next 22 1.5 dx; the rings deeper than the
+// kernel support (2h = 2.4 dx) have no face. On the lattice's staircase the normals were the lattice's axes
+// and diagonals.
+TEST(WallGeometry, CylinderOnRingsFacesAlongItsRadius) {
+  const Scene<2> scene = build_scene<2>(load_case(std::string(ISPH_SOURCE_DIR) + "/cases/dfg_cylinder.toml"));
+  const FluidSetup<2>& f = scene.fluid;
+  const Vec<2> centre{0.2, 0.2};
+  int faced[2] = {0, 0}, unfaced = 0;
+  for (std::size_t a = 0; a < f.x.size(); ++a) {
+    const Vec<2> r = f.x[a] - centre;
+    const double distance = std::sqrt(norm2(r));
+    if (f.kind[a] != FluidKind::wall || distance > 0.05) continue;
+    if (distance < 0.05 - 0.024) {
+      EXPECT_EQ(norm2(f.wall_normal[a]), 0.0) << "at r = " << distance;
+      ++unfaced;
+      continue;
+    }
+    EXPECT_NEAR(dot(f.wall_normal[a], r), distance, 1e-12) << "at r = " << distance;
+    EXPECT_NEAR(f.wall_depth[a], 0.05 - distance, 1e-12);
+    ++faced[distance < 0.04];
+  }
+  EXPECT_EQ(faced[0], 28);
+  EXPECT_EQ(faced[1], 22);
+  EXPECT_EQ(unfaced, 16 + 9 + 3);
+}
+
 // The box of free sites is open against gravity, as a tank is: the top of a wall that stands higher
 // than anything else faces up, dx/2 deep, so that spray thrown onto it lands on it, and its inner
 // corner faces both ways, along the bisector (the Walhorn tank's right wall: two particles that fell

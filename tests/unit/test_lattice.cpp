@@ -72,6 +72,34 @@ TEST(Lattice, WedgeCellsMakeThePanelsArea) {
   for (const auto& p : points) EXPECT_TRUE(wedge.contains({p[0], p[1], 0}, 2)) << p[0] << " " << p[1];
 }
 
+// A circle of radius 0.05 m on rings at s = 0.01 m (Turek & Hron's cylinder at D/10): five rings at
+// r = 0.045, 0.035, ..., 0.005 holding round(2 pi r / s) = 28, 22, 16, 9, 3 particles; the outer ring s/2
+// inside the circle, every particle s/2 or more inside it, and the cells' area, 78 s^2, pi R^2 to 0.7 %.
+TEST(Lattice, RingsFillACircleWithASmoothSurface) {
+  Shape circle;
+  circle.type = ShapeType::circle;
+  circle.center = {0.2, 0.2, 0};
+  circle.radius = 0.05;
+  BodySpec body;
+  body.shape = circle;
+  body.lattice = LatticeType::rings;
+  const double s = 0.01;
+  const auto points = body_particles<2>(body, s);
+  ASSERT_EQ(points.size(), 78u);
+  int outer = 0;
+  double nearest = 1e9;
+  for (std::size_t a = 0; a < points.size(); ++a) {
+    const double r = std::hypot(points[a][0] - 0.2, points[a][1] - 0.2);
+    EXPECT_LE(r, 0.045 + 1e-12);
+    if (std::abs(r - 0.045) < 1e-12) ++outer;
+    for (std::size_t b = a + 1; b < points.size(); ++b)
+      nearest = std::min(nearest, std::hypot(points[a][0] - points[b][0], points[a][1] - points[b][1]));
+  }
+  EXPECT_EQ(outer, 28);
+  EXPECT_NEAR(points.size() * cell_volume<2>(circle, s), M_PI * 0.05 * 0.05, 0.007 * M_PI * 0.05 * 0.05);
+  EXPECT_GT(nearest, 0.85 * s);  // the innermost ring's three, 0.87 s apart; every other pair s or more
+}
+
 // An edge load's region grows by half a spacing on every side, a cylinder's at both ends.
 TEST(Lattice, GrownShapeMovesEveryFaceOut) {
   const Shape g = grown(rectangle(0, 0, 1, 0.5), 0.05);
