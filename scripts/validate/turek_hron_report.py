@@ -16,7 +16,8 @@ the histories against the reference bands.
 --pareto: the speed-accuracy chart of the runs that have ended: each quantity's error (of the mean for a
 steady one, of the amplitude for a periodic one) against the wall time per simulated second of the whole
 run (summary.json's wall time over its simulated time: a run continued from a snapshot counts only its
-own part, so such runs are left out).
+own part, so such runs are left out). A LABEL "SERIES/POINT" joins the runs of one SERIES by a line, each
+point named POINT (cfd2:rings/D10=RUN cfd2:rings/D20=RUN); other labels join the runs of their variant.
 
 VARIANT is one of cfd2, cfd3, fsi1, fsi2, fsi3; the --set lines of each are in the case's header.
 """
@@ -132,7 +133,8 @@ def main():
         rows.append(row)
         curves.append((variant, label, h))
         if cost is not None:
-            errors += [(f"{variant.upper()} {q}", label, error, cost) for q, error in run_errors]
+            series, _, point = label.rpartition("/")
+            errors += [(f"{variant.upper()} {q} {series}".rstrip(), point, error, cost) for q, error in run_errors]
     table(["run", "u_x(A) [mm]", "u_y(A) [mm]", "drag [N/m]", "lift [N/m]", "bar's drag share",
            "fluid lost / inflow", "wall [s]"], rows)
     if args.figure:
@@ -160,7 +162,7 @@ def main():
 
 def pareto(errors, path):
     """Error [%] against wall seconds per simulated second, one line per variant and quantity."""
-    fig, ax = plt.subplots(figsize=(6, 4.2))
+    fig, ax = plt.subplots(figsize=(8.5, 4.2))
     lines = {}
     for name, label, error, cost in errors:
         lines.setdefault(name, []).append((cost, error, label))
@@ -173,7 +175,7 @@ def pareto(errors, path):
     ax.set_xlabel("wall time per simulated second [s] (1 thread)")
     ax.set_ylabel("error against Turek & Hron [%]")
     ax.grid(True, which="both", lw=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1))  # beside the axes: it hid points inside
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     print(f"wrote {path}")
