@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace isph {
 
@@ -46,7 +47,7 @@ std::vector<Vec<D>> fill_wedge(const Shape& w, Real s) {
 template <int D>
 std::vector<Vec<D>> fill_rings(const Shape& circle, Real s) {
   std::vector<Vec<D>> points;
-  constexpr Real two_pi = 6.283185307179586;
+  constexpr Real two_pi = 2 * std::numbers::pi;
   for (int k = 0; circle.radius - (k + 0.5) * s > 0; ++k) {
     const Real r = circle.radius - (k + 0.5) * s;
     const int n = std::max(1, static_cast<int>(std::lround(two_pi * r / s)));

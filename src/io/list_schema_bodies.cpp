@@ -352,11 +352,10 @@ std::vector<SchemaKey<BodySpec>> declare_bodies() {
         return "\"rings\" fills a circle in 2D (" + is("shape.type", b.shape.type) + ")";
       })
       .doc(
-          "\"cartesian\": the lattice below; \"rings\" (a wall's 2D circle): concentric rings s apart, the outer one "
-          "s/2 "
-          "inside the circle, each with round(2 pi r / s) particles, so that a cylinder's surface is smooth rather "
-          "than a staircase (`cases/turek_hron.toml`). Each particle's volume is s^2 (its ring's share differs by "
-          "at most 0.5 / n)");
+          "\"cartesian\": the lattice below; \"rings\" (a wall's 2D circle): concentric rings s apart, the outer "
+          "one s/2 inside the circle, each with round(2 pi r / s) particles, so that a cylinder's surface is smooth "
+          "rather than a staircase (`cases/turek_hron.toml`). Each particle's volume is s^2 (its ring's share "
+          "differs by at most 0.5 / n)");
   add(
       keys, "lattice_origin", [](B & b) -> auto& { return b.lattice_origin; })
       .unit("m")

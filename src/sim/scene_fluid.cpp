@@ -369,10 +369,9 @@ void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const
   check_overlaps(spec, f, file, problems);
   Box<D> box = check_containment(f, scene.wall_particles, file, problems);
   const Real support = f.fluid_kernel().support();
-  std::vector<unsigned char> unchecked =
-      wall_surface_geometry(f, structure.fixed, resolutions.spacing, support, f.period, f.gravity);
-  ring_wall_geometry(spec, support, file, f, unchecked, problems);
-  check_wall_thickness(f, unchecked, spec.dx, support, f.period, file, problems);
+  const std::vector<unsigned char> unchecked =
+      wall_surface_geometry(spec, f, structure.fixed, resolutions.spacing, support, f.period, f.gravity);
+  check_wall_thickness(spec, f, unchecked, support, f.period, file, problems);
   const std::size_t known_problems = problems.size();
   const Real inflow = make_open_buffers(spec, box, file, f, problems);
   if (!f.open_zones.empty()) {

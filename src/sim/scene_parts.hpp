@@ -80,20 +80,17 @@ template <int D>
 void finish_fluid(const CaseSpec& spec, Scene<D>& scene, FluidSetup<D>& f, const TlsphSetup<D>& structure,
                   std::vector<std::string>& problems);
 
-// The wall faces (sim/scene_walls.cpp): each wall particle's normal and depth below the surface;
-// returns 1 for the corner particles. Then the check that every wall fills the kernel support.
+// The wall faces (sim/scene_walls.cpp): each wall particle's normal and depth below the surface (exact
+// for walls on rings); returns 1 for the particles the thickness check leaves out (corners, rings). Then
+// the check that every wall fills the kernel support (a wall on rings by its radius).
 template <int D>
-std::vector<unsigned char> wall_surface_geometry(FluidSetup<D>& f, const std::vector<unsigned char>& structure_fixed,
+std::vector<unsigned char> wall_surface_geometry(const CaseSpec& spec, FluidSetup<D>& f,
+                                                 const std::vector<unsigned char>& structure_fixed,
                                                  const std::vector<Real>& spacing, Real support,
                                                  const Periodicity<D>& period, const Vec<D>& gravity);
-// Walls filled on rings: the exact normal and depth of their circle, in place of the lattice's; marks
-// their particles in `unchecked` (a ring body is checked by its radius, not particle by particle).
 template <int D>
-void ring_wall_geometry(const CaseSpec& spec, Real support, const std::string& file, FluidSetup<D>& f,
-                        std::vector<unsigned char>& unchecked, std::vector<std::string>& problems);
-// `unchecked`: particles left out (corners, rings).
-template <int D>
-void check_wall_thickness(const FluidSetup<D>& f, const std::vector<unsigned char>& unchecked, Real dx, Real support,
-                          const Periodicity<D>& period, const std::string& file, std::vector<std::string>& problems);
+void check_wall_thickness(const CaseSpec& spec, const FluidSetup<D>& f, const std::vector<unsigned char>& unchecked,
+                          Real support, const Periodicity<D>& period, const std::string& file,
+                          std::vector<std::string>& problems);
 
 }  // namespace isph

@@ -27,15 +27,20 @@ namespace isph {
 // gate's foot lifts off the floor): the wall beneath is then exposed, and its particles need the normal
 // and depth of that face (with the foot counted, they pointed sideways, 1.7 dx deep, and water that
 // ran into the floor there was not stopped by the impermeability condition of Project).
-// Returns 1 for the corner particles (normals bisecting two or more faces), 0 for the others.
+// A wall body filled on rings (io/case.hpp LatticeType) is a circle of radius R about c instead: a
+// particle at distance r from c lies R - r below the surface along n = (x - c)/r, exactly, where the
+// lattice's free sites would give a staircase's faces; those deeper than the support keep n = 0.
+// Returns 1 for the particles check_wall_thickness leaves out: the corners (normals bisecting two or
+// more faces) and the walls on rings; 0 for the others.
 template <int D>
-std::vector<unsigned char> wall_surface_geometry(FluidSetup<D>& f, const std::vector<unsigned char>& structure_fixed,
+std::vector<unsigned char> wall_surface_geometry(const CaseSpec& spec, FluidSetup<D>& f,
+                                                 const std::vector<unsigned char>& structure_fixed,
                                                  const std::vector<Real>& spacing, Real support,
                                                  const Periodicity<D>& period, const Vec<D>& gravity) {
   const Index n = static_cast<Index>(f.x.size());
   f.wall_normal.assign(n, Vec<D>::zero());
   f.wall_depth.assign(n, 0);
-  std::vector<unsigned char> corner(n, 0);
+  std::vector<unsigned char> unchecked(n, 0);
   std::vector<Vec<D>> boundary, permanent;
   std::vector<Real> boundary_half, permanent_half;  // half the spacing of each
   for (Index a = 0; a < n; ++a) {
@@ -48,7 +53,7 @@ std::vector<unsigned char> wall_surface_geometry(FluidSetup<D>& f, const std::ve
       permanent_half.push_back(half);
     }
   }
-  if (boundary.empty()) return corner;
+  if (boundary.empty()) return unchecked;
   Vec<D> lo = f.x[0], hi = f.x[0];
   for (const auto& x : f.x)
     for (int d = 0; d < D; ++d) lo[d] = std::min(lo[d], x[d]), hi[d] = std::max(hi[d], x[d]);
@@ -68,8 +73,17 @@ std::vector<unsigned char> wall_surface_geometry(FluidSetup<D>& f, const std::ve
   };
   for (Index a = 0; a < n; ++a) {
     if (f.kind[a] == FluidKind::fluid) continue;
-    const Real s = spacing[f.level[a]];
     const bool wall = f.kind[a] == FluidKind::wall;
+    if (wall && spec.bodies[f.body[a]].lattice == LatticeType::rings) {
+      const Shape& circle = spec.bodies[f.body[a]].shape;
+      const Vec<D> r = f.x[a] - to_vec<D>(circle.center);
+      const Real distance = std::sqrt(norm2(r));
+      const Real depth = circle.radius - distance;
+      if (depth < support && distance > 0) f.wall_normal[a] = (1.0 / distance) * r, f.wall_depth[a] = depth;
+      unchecked[a] = 1;
+      continue;
+    }
+    const Real s = spacing[f.level[a]];
     const int reach = static_cast<int>(std::ceil(support / s)) + 1;
     int best = std::numeric_limits<int>::max();  // |k|^2 of the nearest free sites, offsets k s
     Vec<D> first = Vec<D>::zero(), sum = Vec<D>::zero();
@@ -101,50 +115,30 @@ std::vector<unsigned char> wall_surface_geometry(FluidSetup<D>& f, const std::ve
     // was stopped only sideways, and slid down inside the wall). Sites on opposite sides (a wall one
     // column thick at its middle) cancel; the first found is then kept.
     const Real len = std::sqrt(norm2(sum));
-    corner[a] = ties > 1 && len > 1e-9 * dist;
-    f.wall_normal[a] = corner[a] ? (1.0 / len) * sum : (1.0 / dist) * first;
+    const bool corner = ties > 1 && len > 1e-9 * dist;
+    unchecked[a] = corner;
+    f.wall_normal[a] = corner ? (1.0 / len) * sum : (1.0 / dist) * first;
     f.wall_depth[a] = dist - 0.5 * s;
   }
-  return corner;
-}
-
-// A wall body filled on rings (io/case.hpp LatticeType) is a circle of radius R about c: a particle at
-// distance r from c lies R - r below the surface along n = (x - c)/r, exactly, where the lattice's free
-// sites would give the staircase's faces. Particles deeper than the kernel support keep n = 0, as the
-// lattice's do. The body is as thick as its radius, which must fill the support.
-template <int D>
-void ring_wall_geometry(const CaseSpec& spec, Real support, const std::string& file, FluidSetup<D>& f,
-                        std::vector<unsigned char>& unchecked, std::vector<std::string>& problems) {
-  const auto rings = [&](std::size_t bi) {
-    return spec.bodies[bi].lattice == LatticeType::rings;  // walls only (the schema)
-  };
-  for (std::size_t bi = 0; bi < spec.bodies.size(); ++bi)
-    if (rings(bi) && spec.bodies[bi].shape.radius < support)
-      problems.push_back(file + ": bodies[" + std::to_string(bi) +
-                         "].shape.radius: " + shortest_number(spec.bodies[bi].shape.radius) +
-                         " m is less than the kernel support 2h = " + shortest_number(support) +
-                         " m; a wall on rings must fill it (use the cartesian lattice, or a finer dx)");
-  for (Index a = 0; a < static_cast<Index>(f.x.size()); ++a) {
-    if (f.kind[a] != FluidKind::wall || !rings(static_cast<std::size_t>(f.body[a]))) continue;
-    const Shape& circle = spec.bodies[f.body[a]].shape;
-    const Vec<D> r = f.x[a] - to_vec<D>(circle.center);
-    const Real distance = std::sqrt(norm2(r));
-    const Real depth = circle.radius - distance;
-    const bool faced = depth < support && distance > 0;
-    f.wall_normal[a] = faced ? (1.0 / distance) * r : Vec<D>::zero();
-    f.wall_depth[a] = faced ? depth : 0;
-    unchecked[a] = 1;
-  }
+  return unchecked;
 }
 
 // Every wall must be thick enough to fill the kernel support of the fluid beside it: behind each
 // particle of a wall's first layer there must be wall particles down to a depth of 2h. Corners are left
 // out: a corner is as thick as the faces it joins, which are checked, and along its diagonal normal the
 // lattice's particles lie sqrt(2) dx apart, the second of them beyond the support. So are walls on rings,
-// whose radius ring_wall_geometry checks.
+// which are as thick as their radius.
 template <int D>
-void check_wall_thickness(const FluidSetup<D>& f, const std::vector<unsigned char>& unchecked, Real dx, Real support,
-                          const Periodicity<D>& period, const std::string& file, std::vector<std::string>& problems) {
+void check_wall_thickness(const CaseSpec& spec, const FluidSetup<D>& f, const std::vector<unsigned char>& unchecked,
+                          Real support, const Periodicity<D>& period, const std::string& file,
+                          std::vector<std::string>& problems) {
+  for (std::size_t bi = 0; bi < spec.bodies.size(); ++bi)
+    if (spec.bodies[bi].lattice == LatticeType::rings && spec.bodies[bi].shape.radius < support)
+      problems.push_back(file + ": bodies[" + std::to_string(bi) +
+                         "].shape.radius: " + shortest_number(spec.bodies[bi].shape.radius) +
+                         " m is less than the kernel support 2h = " + shortest_number(support) +
+                         " m; a wall on rings must fill it (use the cartesian lattice, or a finer dx)");
+  const Real dx = spec.dx;
   const Index n = static_cast<Index>(f.x.size());
   std::vector<Vec<D>> walls;
   for (Index a = 0; a < n; ++a)
@@ -183,14 +177,12 @@ void check_wall_thickness(const FluidSetup<D>& f, const std::vector<unsigned cha
   }
 }
 
-#define ISPH_WALL_FACES(D)                                                                                            \
-  template std::vector<unsigned char> wall_surface_geometry<D>(FluidSetup<D>&, const std::vector<unsigned char>&,     \
-                                                               const std::vector<Real>&, Real, const Periodicity<D>&, \
-                                                               const Vec<D>&);                                        \
-  template void ring_wall_geometry<D>(const CaseSpec&, Real, const std::string&, FluidSetup<D>&,                      \
-                                      std::vector<unsigned char>&, std::vector<std::string>&);                        \
-  template void check_wall_thickness<D>(const FluidSetup<D>&, const std::vector<unsigned char>&, Real, Real,          \
-                                        const Periodicity<D>&, const std::string&, std::vector<std::string>&);
+#define ISPH_WALL_FACES(D)                                                                                        \
+  template std::vector<unsigned char> wall_surface_geometry<D>(                                                   \
+      const CaseSpec&, FluidSetup<D>&, const std::vector<unsigned char>&, const std::vector<Real>&, Real,         \
+      const Periodicity<D>&, const Vec<D>&);                                                                      \
+  template void check_wall_thickness<D>(const CaseSpec&, const FluidSetup<D>&, const std::vector<unsigned char>&, \
+                                        Real, const Periodicity<D>&, const std::string&, std::vector<std::string>&);
 ISPH_WALL_FACES(2)
 ISPH_WALL_FACES(3)
 #undef ISPH_WALL_FACES
