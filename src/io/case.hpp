@@ -359,6 +359,7 @@ struct FluidSpec {
   Turbulence turbulence = Turbulence::none;  // sps: Eq. 10
   double smagorinsky = 0.1;                  // c_s of Eq. 10
   double density_relaxation = 0.0;           // gamma of the PPE's density-invariant term (poisson/ppe_assembly.hpp)
+  double constraint_weight = 1.0;            // theta: the projection keeps theta u^{n+1} + (1 - theta) u^n div-free
   bool free_surface = true;                  // detect the free surface (Dirichlet p = 0, Eq. 17)
   double surface_threshold = 0.0;            // div r below it: surface; 0: 1.4 (2D), 2.4 (3D)
   double surface_full = 0.0;                 // div r above it: Skillen alpha = 1; 0: 1.6 (2D), 2.6 (3D)

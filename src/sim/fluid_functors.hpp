@@ -218,6 +218,19 @@ struct VelocityPredictor {
   }
 };
 
+// The velocity whose divergence is the PPE's source when the projection constrains the step's weighted
+// velocity theta u^{n+1} + (1 - theta) u^n rather than u^{n+1} alone (fluid.constraint_weight; docs/VALIDATION.md
+// section 36): with u^{n+1} = u* - (dt/rho) grad p, that constraint is div(u* + ((1 - theta)/theta) u^n) =
+// (dt/rho) div grad p. All particles (walls and structures carry their own velocity in u).
+template <int D>
+struct ConstrainedVelocity {
+  const Vec<D>* u_star;
+  const Vec<D>* u;
+  Real old_weight;  // (1 - theta) / theta
+  Vec<D>* out;
+  ISPH_HD void operator()(Index a) const { out[a] = u_star[a] + old_weight * u[a]; }
+};
+
 // Projection, Eq. 18: u^{n+1}_a = u*_a - (dt/rho) <grad p>_a, with <grad p> the corrected gradient
 // (CorrectedGradient), followed by a kinematic impermeability condition: a fluid particle closer than
 // dx/2 to the surface of its nearest wall neighbour loses the velocity component (relative to the

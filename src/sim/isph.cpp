@@ -236,11 +236,19 @@ Index IsphSolver<D>::detect_free_surface(const FluidView<D>& v, const FluidView<
   return pinned;
 }
 
-// Eqs. 14-16: the PPE assembled as CSR.
+// Eqs. 14-16: the PPE assembled as CSR; its source is div u*, or div(u* + ((1 - theta)/theta) u^n) with
+// fluid.constraint_weight theta < 1 (ConstrainedVelocity).
 template <int D>
 void IsphSolver<D>::assemble_ppe(const FluidView<D>& pv, Real dt, Index pinned) {
   const Index n = particles_.size();
-  parallel_for(exec_, n, CorrectedDivergence<D>{pv.op, L_.data(), u_star_.data(), div_u_star_.data()});
+  const Vec<D>* source_velocity = u_star_.data();
+  if (const Real theta = settings_.constraint_weight; theta < 1) {  // u_new_ is free until the projection
+    parallel_for(
+        exec_, n,
+        ConstrainedVelocity<D>{u_star_.data(), particles_.velocity.data(), (1 - theta) / theta, u_new_.data()});
+    source_velocity = u_new_.data();
+  }
+  parallel_for(exec_, n, CorrectedDivergence<D>{pv.op, L_.data(), source_velocity, div_u_star_.data()});
   full_matrix_.rows = n;
   full_matrix_.row_offset.resize(n + 1);
   parallel_for(exec_, n + 1, PpeRowOffsets{particles_.neighbour_offset(), full_matrix_.row_offset.data()});
