@@ -262,9 +262,9 @@ TEST(OpenBoundaries, StartedFromRestTheOutletPassesWhatTheInletFeeds) {
 // The flow around the cylinder of cases/dfg_cylinder.toml keeps its mass, with or without the density term
 // (fluid.density_relaxation): by 1.2 s, as the ramp ends, 1.6 % of the inflow is lost without it and 1.7 % gained
 // with it (measured 2026-12-08 with the shipped constraint weight 0.6; at 1, 2.3 % lost and 1.7 % gained; on the
-// staircase 2.6 % and 2.3 % lost; by 4 s 0.3 % is lost with it). Before the kinematic wall condition was switched off in confined flows, the
-// velocity it took from the particles at the cylinder's front spread them at its shoulders: without the
-// term 10.5 % was lost by 1.2 s and the run diverged at 1.28 s (docs/VALIDATION.md section 35).
+// staircase 2.6 % and 2.3 % lost; by 4 s 0.3 % is lost with it). Before the kinematic wall condition was switched off
+// in confined flows, the velocity it took from the particles at the cylinder's front spread them at its shoulders:
+// without the term 10.5 % was lost by 1.2 s and the run diverged at 1.28 s (docs/VALIDATION.md section 35).
 TEST(OpenBoundaries, ConfinedChannelKeepsItsMassAroundACylinder) {
   const std::string run = "run " + kCases + "dfg_cylinder.toml --quiet --set end_time=1.2 --set output.snapshots=false";
   double loss[2];
