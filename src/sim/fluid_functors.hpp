@@ -231,6 +231,28 @@ struct ConstrainedVelocity {
   ISPH_HD void operator()(Index a) const { out[a] = u_star[a] + old_weight * u[a]; }
 };
 
+// A box without a Dirichlet row (closed or periodic) fixes its pressure at one pinned particle, whose row then
+// carries p = 0 in place of its divergence equation; the equations it drops must add up to nothing, i.e. the
+// source must sum to zero over the box (Gauss: no flux through its walls), or the pinned particle takes the
+// discrete sum's remainder as a point source (docs/VALIDATION.md section 11). FluidVolumeSum gives
+// sum V_a value_a over the fluid particles (value null: their volume), RemoveFromFluid subtracts the mean.
+struct FluidVolumeSum {
+  const FluidKind* kind;
+  const Real* volume;
+  const Real* value;
+  ISPH_HD double operator()(Index a) const {
+    return kind[a] == FluidKind::fluid ? volume[a] * (value ? value[a] : Real{1}) : 0.0;
+  }
+};
+struct RemoveFromFluid {
+  const FluidKind* kind;
+  Real mean;
+  Real* value;
+  ISPH_HD void operator()(Index a) const {
+    if (kind[a] == FluidKind::fluid) value[a] -= mean;
+  }
+};
+
 // Projection, Eq. 18: u^{n+1}_a = u*_a - (dt/rho) <grad p>_a, with <grad p> the corrected gradient
 // (CorrectedGradient), followed by a kinematic impermeability condition: a fluid particle closer than
 // dx/2 to the surface of its nearest wall neighbour loses the velocity component (relative to the

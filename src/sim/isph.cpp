@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "core/ordered_sum.hpp"
 #include "poisson/ppe_assembly.hpp"
 #include "sim/coupling.hpp"
 #include "sim/fluid_functors.hpp"
@@ -70,6 +71,7 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
   div_r_ = ps.array(Real{D});
   alpha_ = ps.array(Real{1});
   for (auto* v : {&div_u_star_, &eddy_viscosity_, &pressure_volume_, &rhs_, &p_trial_}) *v = ps.array(Real{0});
+  block_sums_ = StateVector<double>(ps.template allocator<double>());
   for (auto* v : {&detected_, &cls_}) *v = ps.array(SurfaceClass::interior);
   setup_row_of_id_ = row_origin_ = ps.array(Index{-1});
   // The work arrays are refilled every step before they are read; they follow the particles anyway, so
@@ -249,6 +251,13 @@ void IsphSolver<D>::assemble_ppe(const FluidView<D>& pv, Real dt, Index pinned) 
     source_velocity = u_new_.data();
   }
   parallel_for(exec_, n, CorrectedDivergence<D>{pv.op, L_.data(), source_velocity, div_u_star_.data()});
+  if (pinned >= 0) {  // a box fixed at one particle: a source of zero sum (FluidVolumeSum)
+    const FluidKind* kind = particles_.kind.data();
+    const Real* volume = particles_.volume.data();
+    const double source = ordered_sum(exec_, n, FluidVolumeSum{kind, volume, div_u_star_.data()}, block_sums_);
+    const double fluid_volume = ordered_sum(exec_, n, FluidVolumeSum{kind, volume, nullptr}, block_sums_);
+    parallel_for(exec_, n, RemoveFromFluid{kind, source / fluid_volume, div_u_star_.data()});
+  }
   full_matrix_.rows = n;
   full_matrix_.row_offset.resize(n + 1);
   parallel_for(exec_, n + 1, PpeRowOffsets{particles_.neighbour_offset(), full_matrix_.row_offset.data()});
