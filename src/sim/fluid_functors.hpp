@@ -235,7 +235,8 @@ struct ConstrainedVelocity {
 // carries p = 0 in place of its divergence equation; the equations it drops must add up to nothing, i.e. the
 // source must sum to zero over the box (Gauss: no flux through its walls), or the pinned particle takes the
 // discrete sum's remainder as a point source (docs/VALIDATION.md section 11). FluidVolumeSum gives
-// sum V_a value_a over the fluid particles (value null: their volume), RemoveFromFluid subtracts the mean.
+// sum V_a value_a over the fluid particles (value null: their volume), RemoveFromFluid subtracts the mean
+// totals[0] / totals[1] (the two sums, left where the sums ran: no copy to the host).
 struct FluidVolumeSum {
   const FluidKind* kind;
   const Real* volume;
@@ -246,10 +247,10 @@ struct FluidVolumeSum {
 };
 struct RemoveFromFluid {
   const FluidKind* kind;
-  Real mean;
+  const double* totals;
   Real* value;
   ISPH_HD void operator()(Index a) const {
-    if (kind[a] == FluidKind::fluid) value[a] -= mean;
+    if (kind[a] == FluidKind::fluid) value[a] -= totals[0] / totals[1];
   }
 };
 

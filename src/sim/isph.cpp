@@ -71,7 +71,8 @@ IsphSolver<D>::IsphSolver(FluidSetup<D> s)
   div_r_ = ps.array(Real{D});
   alpha_ = ps.array(Real{1});
   for (auto* v : {&div_u_star_, &eddy_viscosity_, &pressure_volume_, &rhs_, &p_trial_}) *v = ps.array(Real{0});
-  block_sums_ = StateVector<double>(ps.template allocator<double>());
+  block_sums_ = box_totals_ = StateVector<double>(ps.template allocator<double>());
+  resize_for_overwrite(box_totals_, 2);
   for (auto* v : {&detected_, &cls_}) *v = ps.array(SurfaceClass::interior);
   setup_row_of_id_ = row_origin_ = ps.array(Index{-1});
   // The work arrays are refilled every step before they are read; they follow the particles anyway, so
@@ -254,9 +255,9 @@ void IsphSolver<D>::assemble_ppe(const FluidView<D>& pv, Real dt, Index pinned) 
   if (pinned >= 0) {  // a box fixed at one particle: a source of zero sum (FluidVolumeSum)
     const FluidKind* kind = particles_.kind.data();
     const Real* volume = particles_.volume.data();
-    const double source = ordered_sum(exec_, n, FluidVolumeSum{kind, volume, div_u_star_.data()}, block_sums_);
-    const double fluid_volume = ordered_sum(exec_, n, FluidVolumeSum{kind, volume, nullptr}, block_sums_);
-    parallel_for(exec_, n, RemoveFromFluid{kind, source / fluid_volume, div_u_star_.data()});
+    ordered_sum_into(exec_, n, FluidVolumeSum{kind, volume, div_u_star_.data()}, block_sums_, box_totals_.data());
+    ordered_sum_into(exec_, n, FluidVolumeSum{kind, volume, nullptr}, block_sums_, box_totals_.data() + 1);
+    parallel_for(exec_, n, RemoveFromFluid{kind, box_totals_.data(), div_u_star_.data()});
   }
   full_matrix_.rows = n;
   full_matrix_.row_offset.resize(n + 1);

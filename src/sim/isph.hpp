@@ -103,8 +103,8 @@ class IsphSolver final : public FluidModel<D> {
   StateVector<SurfaceClass> detected_, cls_;
   StateVector<Vec<D>> wall_moment_;
   StateVector<Mat<D>> L_structure_;
-  StateVector<double> rhs_, p_trial_, block_sums_;
-  CsrMatrix full_matrix_, matrix_;  // as assembled; without zeros, columns sorted
+  StateVector<double> rhs_, p_trial_, block_sums_, box_totals_;  // the last two: a closed box's source sums
+  CsrMatrix full_matrix_, matrix_;                               // as assembled; without zeros, columns sorted
 
   int solves_since_assembly_ = 0;  // PPE solves with the assembled matrix (the later ones reuse its set-up)
   // The preconditioner kept across steps (matrix_reuse): steps since its set-up, the particle order it
